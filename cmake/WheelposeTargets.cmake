@@ -1,0 +1,39 @@
+# Shared warning flags and helpers so every layer's CMakeLists stays a few lines long.
+
+add_library(wheelpose_warnings INTERFACE)
+target_compile_options(wheelpose_warnings INTERFACE -Wall -Wextra -Werror)
+
+# wheelpose_layer(NAME DEPS ...) builds src/<NAME>/*.cpp (except *_test.cpp) as library
+# wheelpose_<NAME>, and all of its *_test.cpp files as one GoogleTest executable <NAME>_test.
+# A new source file in a layer therefore needs no CMake edit.
+function(wheelpose_layer name)
+  cmake_parse_arguments(ARG "" "" "DEPS;TEST_DEPS" ${ARGN})
+  file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
+  set(tests ${sources})
+  list(FILTER sources EXCLUDE REGEX "_test\\.cpp$")
+  list(FILTER tests INCLUDE REGEX "_test\\.cpp$")
+  add_library(wheelpose_${name} STATIC ${sources})
+  target_include_directories(wheelpose_${name} PUBLIC ${CMAKE_SOURCE_DIR}/src)
+  target_link_libraries(wheelpose_${name} PUBLIC ${ARG_DEPS} PRIVATE wheelpose_warnings)
+  target_compile_definitions(wheelpose_${name} PRIVATE WHEELPOSE_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
+  if(tests)
+    wheelpose_test(${name}_test SOURCES ${tests} DEPS wheelpose_${name} ${ARG_TEST_DEPS})
+  endif()
+endfunction()
+
+# wheelpose_test(NAME SOURCES ... DEPS ...) adds a GoogleTest executable registered with CTest.
+# Tests find the shared data through WHEELPOSE_SHARED_DIR, the project through
+# WHEELPOSE_SOURCE_DIR and the CLI through WHEELPOSE_BINARY.
+function(wheelpose_test name)
+  if(NOT WHEELPOSE_BUILD_TESTS)
+    return()
+  endif()
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest_main GTest::gmock wheelpose_warnings)
+  target_compile_definitions(${name} PRIVATE
+    WHEELPOSE_SHARED_DIR="${WHEELPOSE_SHARED_DIR}"
+    WHEELPOSE_SOURCE_DIR="${CMAKE_SOURCE_DIR}"
+    WHEELPOSE_BINARY="${CMAKE_BINARY_DIR}/wheelpose")
+  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 600)
+endfunction()

@@ -1,0 +1,54 @@
+#pragma once
+// Seeded random streams. A stream is a pure function of (seed, keys...): there is no global RNG,
+// so adding a consumer never changes the numbers another consumer sees, and any frame can be
+// regenerated alone. The generator and the variate transforms are written here (not <random>'s
+// distributions) because libstdc++ and libc++ produce different normal/uniform variates, and our
+// outputs must be byte-identical everywhere.
+
+#include <cstdint>
+#include <initializer_list>
+#include <string_view>
+
+namespace wheelpose {
+
+// One key of a stream: a number (frame index, draw index) or a name (randomizer, clip).
+class StreamKey {
+ public:
+  StreamKey(std::uint64_t value) : hash_(mix(value ^ 0x9e3779b97f4a7c15ULL)) {}  // NOLINT
+  StreamKey(int value) : StreamKey(static_cast<std::uint64_t>(static_cast<std::int64_t>(value))) {}  // NOLINT
+  StreamKey(std::string_view text);  // NOLINT
+  StreamKey(const char* text) : StreamKey(std::string_view(text)) {}  // NOLINT
+  std::uint64_t hash() const { return hash_; }
+  static std::uint64_t mix(std::uint64_t z);
+
+ private:
+  std::uint64_t hash_;
+};
+
+class RandomStream {
+ public:
+  RandomStream(std::uint64_t seed, std::initializer_list<StreamKey> keys);
+
+  // A stream derived from this one's identity (not its position) and further keys.
+  RandomStream child(std::initializer_list<StreamKey> keys) const;
+
+  std::uint64_t next_u64();
+  // Uniform in [0, 1) with 53 random bits.
+  double uniform01();
+  // Uniform in [lo, hi).
+  double uniform(double lo, double hi);
+  // Uniform integer in [lo, hi] (inclusive), unbiased.
+  std::int64_t uniform_int(std::int64_t lo, std::int64_t hi);
+  // Standard normal by the Box–Muller transform (both variates used).
+  double normal(double mean, double stddev);
+  bool bernoulli(double p);
+
+ private:
+  explicit RandomStream(std::uint64_t identity) : identity_(identity), state_(identity) {}
+  std::uint64_t identity_;
+  std::uint64_t state_;
+  bool has_spare_normal_ = false;
+  double spare_normal_ = 0.0;
+};
+
+}  // namespace wheelpose
