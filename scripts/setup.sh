@@ -6,7 +6,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   libeigen3-dev libembree-dev libtbb-dev libassimp-dev
   nlohmann-json3-dev libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev
-  libcpp-httplib-dev libsqlite3-dev libopencv-dev
+  libcpp-httplib-dev libsqlite3-dev libopencv-dev libgif-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 

@@ -1,0 +1,20 @@
+#pragma once
+// Runs the built `wheelpose` binary for end-to-end tests and captures its output and exit code.
+
+#include <filesystem>
+#include <string>
+
+namespace wheelpose::testing {
+
+struct CliResult {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr interleaved
+};
+
+// `args` is appended to the binary path as shell words (quote paths yourself if needed).
+CliResult run_wheelpose(const std::string& args);
+
+// A fresh empty directory under the system temp dir, unique per test.
+std::filesystem::path fresh_temp_dir(const std::string& name);
+
+}  // namespace wheelpose::testing
