@@ -1,0 +1,45 @@
+#pragma once
+// A keypoint template names the keypoints of a pose format and gives each its COCO OKS sigma,
+// the drawing skeleton, left/right flip pairs and named groups used by the per-keypoint report.
+// File format (JSON): {"name", "keypoints": [{"name", "sigma", ...}], "skeleton": [[a, b], ...]
+// (1-based, as in COCO categories), "flip_pairs": [[name, name]], "groups": [{"name",
+// "keypoints": [names]}]}. Unknown per-keypoint fields are allowed so other tools can extend it.
+
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace wheelpose::eval {
+
+struct KeypointInfo {
+  std::string name;
+  double sigma = 0.0;
+};
+
+struct KeypointGroup {
+  std::string name;
+  std::vector<int> indices;  // 0-based keypoint indices
+};
+
+struct KeypointTemplate {
+  std::string name;
+  std::vector<KeypointInfo> keypoints;
+  std::vector<std::pair<int, int>> skeleton;    // 0-based
+  std::vector<std::pair<int, int>> flip_pairs;  // 0-based
+  std::vector<KeypointGroup> groups;
+
+  int size() const { return static_cast<int>(keypoints.size()); }
+  int index_of(std::string_view keypoint_name) const;  // -1 if absent
+};
+
+// Parses template JSON text; `source` names it in error messages.
+KeypointTemplate parse_keypoint_template(std::string_view json_text, const std::string& source);
+
+// "coco17" selects the built-in COCO template; anything else is read as a file path.
+KeypointTemplate load_keypoint_template(const std::string& name_or_path);
+
+// The text of data/keypoints/coco17.json, compiled in.
+std::string_view builtin_coco17_json();
+
+}  // namespace wheelpose::eval
