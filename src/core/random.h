@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <initializer_list>
+#include <string>
 #include <string_view>
 
 namespace wheelpose {
@@ -18,6 +19,7 @@ class StreamKey {
   StreamKey(int value) : StreamKey(static_cast<std::uint64_t>(static_cast<std::int64_t>(value))) {}  // NOLINT
   StreamKey(std::string_view text);  // NOLINT
   StreamKey(const char* text) : StreamKey(std::string_view(text)) {}  // NOLINT
+  StreamKey(const std::string& text) : StreamKey(std::string_view(text)) {}  // NOLINT
   std::uint64_t hash() const { return hash_; }
   static std::uint64_t mix(std::uint64_t z);
 

@@ -1,0 +1,120 @@
+#include "motion/pipeline.h"
+
+#include <spdlog/spdlog.h>
+
+#include "core/error.h"
+#include "motion/filter.h"
+#include "motion/rotations.h"
+
+namespace wheelpose::motion {
+
+MotionOptions MotionOptions::from_config(const ConfigNode& node) {
+  MotionOptions o;
+  o.handedness = handedness_from_name(
+      node.get_choice("handedness", "auto", {"auto", "standard", "mirrored"}));
+  if (auto filter = node.optional_child("filter")) {
+    o.filter = filter->get_bool("enabled", o.filter);
+    o.filter_order = static_cast<int>(filter->get_int("order", o.filter_order, 1, 8));
+    o.filter_cutoff_hz = filter->get_double("cutoff_hz", o.filter_cutoff_hz, 0.1, 100.0);
+    filter->finish();
+  }
+  if (auto seat = node.optional_child("seat")) {
+    SeatingOptions& s = o.seating;
+    o.seat = seat->get_bool("enabled", o.seat);
+    s.thigh_elevation_deg = seat->get_double("thigh_elevation_deg", s.thigh_elevation_deg, -30, 80);
+    s.shin_angle_deg = seat->get_double("shin_angle_deg", s.shin_angle_deg, -45, 60);
+    s.foot_pitch_deg = seat->get_double("foot_pitch_deg", s.foot_pitch_deg, -60, 60);
+    s.noise_amplitude_deg = seat->get_double("noise_amplitude_deg", s.noise_amplitude_deg, 0, 45);
+    s.keyframe_gap_mean = seat->get_double("keyframe_gap_mean", s.keyframe_gap_mean, 0.01, 1.0);
+    s.keyframe_gap_stddev =
+        seat->get_double("keyframe_gap_stddev", s.keyframe_gap_stddev, 0.0, 1.0);
+    s.follow_heading = seat->get_bool("follow_heading", s.follow_heading);
+    s.keep_root_translation = seat->get_bool("keep_root_translation", s.keep_root_translation);
+    seat->finish();
+  }
+  if (auto limits = node.optional_child("limits")) {
+    ClipLimits& l = o.limits;
+    l.min_bone_length = limits->get_double("min_bone_length", l.min_bone_length, 0, 1);
+    l.max_bone_length = limits->get_double("max_bone_length", l.max_bone_length, 0.01, 10);
+    l.max_length_change = limits->get_double("max_length_change", l.max_length_change, 0, 10);
+    limits->finish();
+  }
+  o.seed = static_cast<std::uint64_t>(node.get_int("seed", 0, 0, INT64_MAX));
+  node.finish();
+  return o;
+}
+
+nlohmann::ordered_json MotionOptions::to_json() const {
+  const SeatingOptions& s = seating;
+  return {{"handedness", handedness_name(handedness)},
+          {"filter", {{"enabled", filter}, {"order", filter_order}, {"cutoff_hz", filter_cutoff_hz}}},
+          {"seat",
+           {{"enabled", seat},
+            {"thigh_elevation_deg", s.thigh_elevation_deg},
+            {"shin_angle_deg", s.shin_angle_deg},
+            {"foot_pitch_deg", s.foot_pitch_deg},
+            {"noise_amplitude_deg", s.noise_amplitude_deg},
+            {"keyframe_gap_mean", s.keyframe_gap_mean},
+            {"keyframe_gap_stddev", s.keyframe_gap_stddev},
+            {"follow_heading", s.follow_heading},
+            {"keep_root_translation", s.keep_root_translation}}},
+          {"limits",
+           {{"min_bone_length", limits.min_bone_length},
+            {"max_bone_length", limits.max_bone_length},
+            {"max_length_change", limits.max_length_change}}},
+          {"seed", seed}};
+}
+
+void make_rotations_continuous(SkeletalMotion& motion) {
+  for (std::size_t f = 1; f < motion.local_rotations.size(); ++f) {
+    for (int j = 0; j < kJointCount; ++j) {
+      Eigen::Quaterniond& q = motion.local_rotations[f][j];
+      if (q.dot(motion.local_rotations[f - 1][j]) < 0) q.coeffs() = -q.coeffs();
+    }
+  }
+}
+
+SeatedClip run_motion_pipeline(const PositionClip& clip, const MotionOptions& options) {
+  ClipLimits limits = options.limits;
+  std::optional<FilterCoefficients> filter;
+  std::string filter_note = "disabled";
+  if (options.filter) {
+    if (options.filter_cutoff_hz < clip.fps / 2) {
+      filter = butterworth_lowpass(options.filter_order, options.filter_cutoff_hz, clip.fps);
+      limits.min_frames = std::max(limits.min_frames, filtfilt_padding(*filter) + 1);
+      filter_note = "applied";
+    } else {
+      // At or below twice the cutoff there is nothing above the cutoff left to remove.
+      filter_note = "skipped: cutoff is at or above the Nyquist frequency";
+    }
+  }
+  validate_position_clip(clip, limits);
+
+  std::vector<Pose> frames = clip.frames;
+  const OrientationResult orientation = normalize_orientation(frames, options.handedness);
+  if (filter) lowpass_positions(frames, *filter);
+
+  SeatedClip seated;
+  seated.motion = solve_rotations(frames, clip.fps, clip.name);
+  if (options.seat) {
+    const RandomStream stream(options.seed, {"motion", "seat", clip.name});
+    seat_legs(seated.motion, options.seating, stream, filter ? &*filter : nullptr);
+  }
+  make_rotations_continuous(seated.motion);
+  seated.positions = forward_kinematics(seated.motion);
+
+  seated.provenance = {
+      {"source", clip.source},
+      {"source_fps", clip.fps},
+      {"source_frames", clip.frames.size()},
+      {"mirrored", orientation.mirrored},
+      {"yaw_applied_deg", orientation.yaw_radians * 180.0 / M_PI},
+      {"filter", filter_note},
+      {"parameters", options.to_json()},
+  };
+  spdlog::debug("{}: {} frames at {} fps, mirrored={}, filter {}", clip.name, clip.frames.size(),
+                clip.fps, orientation.mirrored, filter_note);
+  return seated;
+}
+
+}  // namespace wheelpose::motion
