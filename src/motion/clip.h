@@ -22,6 +22,9 @@ struct PositionClip {
   std::string source;        // where it came from (path or "library:<id>")
   double fps = 20.0;
   std::vector<Pose> frames;  // metres, +Y up
+  // Set by importers of sources that may be left/right mirrored (HumanML3D's HumanAct12 part);
+  // the pipeline then checks handedness in "auto" mode.
+  bool handedness_uncertain = false;
 };
 
 struct SkeletalMotion {

@@ -12,18 +12,19 @@ namespace {
 constexpr const char* kFormat = "wheelpose.seated_clip";
 constexpr int kVersion = 1;
 
-double round_to(double value, double step) {
-  const double rounded = std::round(value / step) * step;
+// Rounds to `digits` decimals; dividing by the power of ten (not multiplying by its inverse)
+// yields the double nearest the decimal, which prints short.
+double round_to(double value, double scale) {
+  const double rounded = std::round(value * scale) / scale;
   return rounded == 0.0 ? 0.0 : rounded;  // no "-0"
 }
 
 nlohmann::ordered_json vec3(const Eigen::Vector3d& v) {
-  return {round_to(v.x(), 1e-6), round_to(v.y(), 1e-6), round_to(v.z(), 1e-6)};
+  return {round_to(v.x(), 1e6), round_to(v.y(), 1e6), round_to(v.z(), 1e6)};
 }
 
 nlohmann::ordered_json quat(const Eigen::Quaterniond& q) {
-  return {round_to(q.w(), 1e-7), round_to(q.x(), 1e-7), round_to(q.y(), 1e-7),
-          round_to(q.z(), 1e-7)};
+  return {round_to(q.w(), 1e7), round_to(q.x(), 1e7), round_to(q.y(), 1e7), round_to(q.z(), 1e7)};
 }
 
 class Reader {
@@ -32,11 +33,11 @@ class Reader {
   [[noreturn]] void fail(const std::string& field, const std::string& what) const {
     throw Error(path_.string() + ": " + field + ": " + what);
   }
-  const nlohmann::json& member(const nlohmann::json& object, const std::string& key) const {
+  const nlohmann::ordered_json& member(const nlohmann::ordered_json& object, const std::string& key) const {
     if (!object.is_object() || !object.contains(key)) fail(key, "missing");
     return object.at(key);
   }
-  std::vector<double> numbers(const nlohmann::json& value, std::size_t count,
+  std::vector<double> numbers(const nlohmann::ordered_json& value, std::size_t count,
                               const std::string& field) const {
     if (!value.is_array() || value.size() != count) {
       fail(field, "expected " + std::to_string(count) + " numbers");
@@ -48,7 +49,7 @@ class Reader {
     }
     return out;
   }
-  const nlohmann::json& frames(const nlohmann::json& value, std::size_t count,
+  const nlohmann::ordered_json& frames(const nlohmann::ordered_json& value, std::size_t count,
                                const std::string& field) const {
     if (!value.is_array() || value.size() != count) {
       fail(field, "expected " + std::to_string(count) + " entries");
@@ -109,10 +110,10 @@ void write_seated_clip_json(const SeatedClip& clip, const std::filesystem::path&
 
 SeatedClip read_seated_clip_json(const std::filesystem::path& path) {
   Reader r(path);
-  nlohmann::json doc;
+  nlohmann::ordered_json doc;
   try {
-    doc = nlohmann::json::parse(read_file(path));
-  } catch (const nlohmann::json::parse_error& e) {
+    doc = nlohmann::ordered_json::parse(read_file(path));
+  } catch (const nlohmann::ordered_json::parse_error& e) {
     throw Error(path.string() + ": invalid JSON: " + e.what());
   }
   if (r.member(doc, "format") != kFormat) r.fail("format", "not a WheelPose seated clip");
@@ -157,7 +158,8 @@ SeatedClip read_seated_clip_json(const std::filesystem::path& path) {
     for (int j = 0; j < kJointCount; ++j) {
       const std::string field = frame + "[" + std::to_string(j) + "]";
       auto q = r.numbers(rotations[f][j], 4, "local_rotations" + field);
-      m.local_rotations[f][j] = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized();
+      // Kept as stored (unit to 1e-7) so that writing it again gives the same bytes.
+      m.local_rotations[f][j] = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
       auto p = r.numbers(positions[f][j], 3, "positions" + field);
       clip.positions[f][j] = {p[0], p[1], p[2]};
     }

@@ -12,7 +12,8 @@
 namespace wheelpose::motion {
 
 enum class Handedness {
-  kAuto,      // mirrored if the head points backwards relative to the hips' facing
+  kAuto,      // for sources that may be mirrored: mirrored if the head points backwards
+              // relative to the hips' facing; other sources are taken as standard
   kStandard,  // labels match geometry: left joints on the subject's left
   kMirrored,  // left/right geometry is mirrored: reflect it
 };

@@ -91,7 +91,10 @@ SeatedClip run_motion_pipeline(const PositionClip& clip, const MotionOptions& op
   validate_position_clip(clip, limits);
 
   std::vector<Pose> frames = clip.frames;
-  const OrientationResult orientation = normalize_orientation(frames, options.handedness);
+  const Handedness handedness =
+      options.handedness == Handedness::kAuto && !clip.handedness_uncertain ? Handedness::kStandard
+                                                                            : options.handedness;
+  const OrientationResult orientation = normalize_orientation(frames, handedness);
   if (filter) lowpass_positions(frames, *filter);
 
   SeatedClip seated;
