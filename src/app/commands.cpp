@@ -2,9 +2,11 @@
 
 namespace wheelpose::app {
 
+void attach_eval(CLI::App& parent);
 
 const std::vector<Command>& command_table() {
   static const std::vector<Command> table = {
+      {"eval", attach_eval},
   };
   return table;
 }

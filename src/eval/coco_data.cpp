@@ -94,8 +94,16 @@ json parse_json_file(const std::filesystem::path& path) {
     // e.byte is the offset; report the line too, which editors show.
     const std::size_t offset = std::min<std::size_t>(e.byte, text.size());
     const auto line = 1 + std::count(text.begin(), text.begin() + offset, '\n');
+    // Show what precedes the error so the broken entry can be found (NaN is a common cause).
+    const std::size_t from = offset > 40 ? offset - 40 : 0;
+    std::string near = text.substr(from, offset - from);
+    std::replace(near.begin(), near.end(), '\n', ' ');
     throw Error(path.string() + ": malformed JSON at line " + std::to_string(line) + " (byte " +
-                std::to_string(e.byte) + "); NaN/Infinity are not valid JSON");
+                std::to_string(e.byte) + ", after '" + near +
+                "'); note NaN/Infinity are not valid JSON");
+  } catch (const json::exception& e) {
+    // e.g. 1e999: a number that overflows to infinity.
+    throw Error(path.string() + ": invalid JSON: " + e.what());
   }
 }
 

@@ -1,0 +1,127 @@
+// `wheelpose eval`: COCO keypoint / box evaluation identical to pycocotools, plus the paper's
+// per-keypoint metrics, an optional baseline comparison and overlay images.
+
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "eval/coco_data.h"
+#include "eval/coco_eval.h"
+#include "eval/eval_report.h"
+#include "eval/eval_viz.h"
+#include "eval/keypoint_metrics.h"
+#include "eval/keypoint_template.h"
+
+namespace wheelpose::app {
+namespace {
+
+struct EvalOptions {
+  std::string gt;
+  std::string dt;
+  std::string type = "keypoints";
+  std::string keypoint_template = "coco17";
+  std::string baseline;
+  std::string out;
+  int viz = 0;
+  std::string images;
+};
+
+eval::ResultReport evaluate_file(const std::string& path, const eval::CocoGroundTruth& gt,
+                                 const eval::KeypointTemplate& t, bool keypoints, bool bbox,
+                                 std::unique_ptr<eval::CocoResults>& results) {
+  results = std::make_unique<eval::CocoResults>(eval::load_coco_results(path, gt, t.size()));
+  eval::ResultReport report;
+  report.results_path = path;
+  if (keypoints) {
+    eval::require_fields(*results, eval::IouType::kKeypoints);
+    eval::CocoEvaluator evaluator(gt, *results, eval::IouType::kKeypoints, t);
+    evaluator.evaluate();
+    evaluator.accumulate();
+    report.keypoints = evaluator.summarize();
+    report.keypoint_metrics = eval::compute_keypoint_metrics(evaluator, gt, *results, t);
+  }
+  if (bbox) report.bbox = eval::run_coco_eval(gt, *results, eval::IouType::kBbox, t);
+  return report;
+}
+
+void print_report(const eval::ResultReport& r) {
+  if (r.keypoints) {
+    std::printf("Keypoint evaluation of %s\n%s", r.results_path.c_str(), r.keypoints->text.c_str());
+  }
+  if (r.bbox) std::printf("Box evaluation of %s\n%s", r.results_path.c_str(), r.bbox->text.c_str());
+  if (r.keypoint_metrics) {
+    std::printf("\nPer-keypoint metrics of %s\n\n%s\n", r.results_path.c_str(),
+                eval::keypoint_table_markdown(*r.keypoint_metrics).c_str());
+  }
+}
+
+void run_eval(const EvalOptions& o) {
+  if (o.viz > 0 && (o.images.empty() || o.out.empty())) {
+    throw Error("--viz needs --images DIR (the GT images) and --out DIR");
+  }
+  const bool keypoints = o.type != "bbox";
+  const bool bbox = o.type != "keypoints";
+  const eval::KeypointTemplate t = eval::load_keypoint_template(o.keypoint_template);
+  const eval::CocoGroundTruth gt = eval::load_coco_gt(o.gt, t.size(), keypoints);
+  std::unique_ptr<eval::CocoResults> ours_results, base_results;
+  const eval::ResultReport ours = evaluate_file(o.dt, gt, t, keypoints, bbox, ours_results);
+  std::optional<eval::ResultReport> base;
+  if (!o.baseline.empty()) base = evaluate_file(o.baseline, gt, t, keypoints, bbox, base_results);
+
+  if (base) print_report(*base);
+  print_report(ours);
+  std::string comparison;
+  if (base) {
+    comparison = eval::comparison_markdown(ours, *base);
+    std::printf("Comparison: %s vs baseline %s\n\n%s", o.dt.c_str(), o.baseline.c_str(),
+                comparison.c_str());
+  }
+  std::fflush(stdout);
+  if (o.out.empty()) return;
+
+  const std::filesystem::path out(o.out);
+  ensure_directory(out);
+  const auto metrics = eval::metrics_json(o.gt, t.name, ours, base ? &*base : nullptr);
+  write_file_atomic(out / "metrics.json", metrics.dump(2) + "\n");
+  if (base) write_file_atomic(out / "comparison.md", comparison);
+  if (o.viz > 0) {
+    eval::VizOptions viz;
+    viz.count = o.viz;
+    viz.images_dir = o.images;
+    viz.out_dir = out / "viz";
+    const auto files = eval::write_overlays(gt, *ours_results, base_results.get(), t, viz);
+    spdlog::info("wrote {} overlay image(s) to {}", files.size(), viz.out_dir.string());
+  }
+  spdlog::info("wrote {}", (out / "metrics.json").string());
+}
+
+}  // namespace
+
+void attach_eval(CLI::App& parent) {
+  auto options = std::make_shared<EvalOptions>();
+  CLI::App* cmd = parent.add_subcommand(
+      "eval", "COCO keypoint/box AP (identical to pycocotools) and per-keypoint metrics");
+  cmd->add_option("--gt", options->gt, "COCO person-keypoints ground truth JSON")->required();
+  cmd->add_option("--dt", options->dt, "COCO results JSON (list of detections)")->required();
+  cmd->add_option("--type", options->type, "What to evaluate")
+      ->check(CLI::IsMember({"keypoints", "bbox", "both"}))
+      ->capture_default_str();
+  cmd->add_option("--template", options->keypoint_template,
+                  "Keypoint template: coco17 or a template JSON file (names, sigmas, skeleton)")
+      ->capture_default_str();
+  cmd->add_option("--baseline", options->baseline,
+                  "Second results JSON to compare against (percent change, comparison.md)");
+  cmd->add_option("--out", options->out, "Directory for metrics.json, comparison.md and viz/");
+  cmd->add_option("--viz", options->viz, "Draw this many evenly spaced GT images into OUT/viz")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--images", options->images, "Directory holding the GT images (for --viz)");
+  cmd->callback([options] { run_eval(*options); });
+}
+
+}  // namespace wheelpose::app

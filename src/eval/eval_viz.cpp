@@ -1,0 +1,106 @@
+#include "eval/eval_viz.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+
+namespace wheelpose::eval {
+namespace {
+
+const cv::Scalar kWhite(255, 255, 255), kRed(0, 0, 255), kGreen(0, 255, 0);
+
+cv::Point point(const std::vector<double>& kp, int k) {
+  return cv::Point(static_cast<int>(std::lround(kp[3 * k])),
+                   static_cast<int>(std::lround(kp[3 * k + 1])));
+}
+
+void draw_box(cv::Mat& image, const Box& b, const cv::Scalar& color) {
+  cv::rectangle(image, cv::Point(static_cast<int>(b.x), static_cast<int>(b.y)),
+                cv::Point(static_cast<int>(b.x + b.w), static_cast<int>(b.y + b.h)), color, 1,
+                cv::LINE_AA);
+}
+
+// `labelled(k)` says whether keypoint k exists; `visible(k)` picks a filled dot over a ring.
+template <typename Labelled, typename Visible>
+void draw_pose(cv::Mat& image, const std::vector<double>& kp, const KeypointTemplate& t,
+               const cv::Scalar& color, int thickness, Labelled labelled, Visible visible) {
+  if (kp.empty()) return;
+  for (const auto& [a, b] : t.skeleton) {
+    if (labelled(a) && labelled(b)) {
+      cv::line(image, point(kp, a), point(kp, b), color, thickness, cv::LINE_AA);
+    }
+  }
+  for (int k = 0; k < t.size(); ++k) {
+    if (!labelled(k)) continue;
+    cv::circle(image, point(kp, k), 3 + thickness, color, visible(k) ? cv::FILLED : 1, cv::LINE_AA);
+  }
+}
+
+void draw_detections(cv::Mat& image, const CocoResults& results, std::int64_t image_id,
+                     const KeypointTemplate& t, const cv::Scalar& color, double min_score) {
+  for (const Detection& d : results.detections) {
+    if (d.image_id != image_id || d.score < min_score) continue;
+    draw_box(image, d.bbox, color);
+    draw_pose(
+        image, d.keypoints, t, color, 1, [](int) { return true; }, [](int) { return true; });
+  }
+}
+
+}  // namespace
+
+std::vector<int> evenly_spaced(int n, int count) {
+  std::vector<int> out;
+  const int m = std::min(n, std::max(count, 0));
+  for (int i = 0; i < m; ++i) {
+    out.push_back(static_cast<int>(static_cast<long long>(i) * n / m));
+  }
+  return out;
+}
+
+std::vector<std::filesystem::path> write_overlays(const CocoGroundTruth& gt,
+                                                  const CocoResults& ours,
+                                                  const CocoResults* baseline,
+                                                  const KeypointTemplate& t,
+                                                  const VizOptions& options) {
+  std::vector<std::filesystem::path> written;
+  ensure_directory(options.out_dir);
+  for (int position : evenly_spaced(static_cast<int>(gt.images.size()), options.count)) {
+    const GtImage& info = gt.images[position];
+    if (info.file_name.empty()) {
+      throw Error(gt.source + ": image id " + std::to_string(info.id) +
+                  " has no file_name to draw");
+    }
+    const std::filesystem::path source = options.images_dir / info.file_name;
+    if (!std::filesystem::is_regular_file(source)) {
+      throw Error(source.string() + ": image file of image id " + std::to_string(info.id) +
+                  " not found (--images DIR must hold the GT images)");
+    }
+    cv::Mat image = cv::imread(source.string(), cv::IMREAD_COLOR);
+    if (image.empty()) throw Error(source.string() + ": cannot decode image for --viz");
+    for (const GtAnnotation& g : gt.annotations) {
+      if (g.image_id != info.id) continue;
+      draw_box(image, g.bbox, kWhite);
+      if (g.keypoints.empty()) continue;
+      draw_pose(
+          image, g.keypoints, t, kWhite, 2, [&](int k) { return g.keypoints[3 * k + 2] > 0; },
+          [&](int k) { return g.keypoints[3 * k + 2] >= 2; });
+    }
+    if (baseline) draw_detections(image, *baseline, info.id, t, kRed, options.min_score);
+    draw_detections(image, ours, info.id, t, kGreen, options.min_score);
+    std::vector<std::uint8_t> encoded;
+    if (!cv::imencode(".jpg", image, encoded)) {
+      throw Error("cannot encode overlay for " + source.string(), ErrorKind::kFailure);
+    }
+    const auto target =
+        options.out_dir / (std::filesystem::path(info.file_name).stem().string() + ".jpg");
+    write_file_atomic(target, std::span<const std::uint8_t>(encoded.data(), encoded.size()));
+    written.push_back(target);
+  }
+  return written;
+}
+
+}  // namespace wheelpose::eval
