@@ -1,0 +1,266 @@
+#include "motion/export_gltf.h"
+
+#include <assimp/scene.h>
+
+#include <algorithm>
+#include <assimp/Exporter.hpp>
+#include <cstdint>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "motion/stick_figure.h"
+
+namespace wheelpose::motion {
+
+namespace {
+
+aiVector3D to_ai(const Eigen::Vector3d& v) {
+  return aiVector3D(static_cast<ai_real>(v.x()), static_cast<ai_real>(v.y()),
+                    static_cast<ai_real>(v.z()));
+}
+
+aiMatrix4x4 translation(const Eigen::Vector3d& v) {
+  aiMatrix4x4 m;
+  aiMatrix4x4::Translation(to_ai(v), m);
+  return m;
+}
+
+constexpr const char* kRootNodeName = "wheelpose_root";
+constexpr const char* kMeshName = "stick_figure";
+
+// Assimp's glTF exporter aborts ("two objects with the same ID") when the animation is named
+// like a node, so a motion called e.g. "pelvis" gets a suffix.
+std::string animation_name(const SkeletalMotion& motion) {
+  std::string name = motion.name.empty() ? "motion" : motion.name;
+  if (name == kRootNodeName || name == kMeshName || joint_from_name(name)) name += "_motion";
+  return name;
+}
+
+std::vector<int> children_of(int joint) {
+  std::vector<int> children;
+  for (int j = 0; j < kJointCount; ++j) {
+    if (joint_parent(j) == joint) children.push_back(j);
+  }
+  return children;
+}
+
+aiNode* make_joint_node(const SkeletalMotion& motion, int joint, const Eigen::Vector3d& bind_root,
+                        aiNode* parent) {
+  auto* node = new aiNode(std::string(joint_name(joint)));
+  node->mParent = parent;
+  node->mTransformation =
+      translation(joint_parent(joint) < 0 ? bind_root : motion.rest_offsets[joint]);
+  const std::vector<int> children = children_of(joint);
+  if (!children.empty()) {
+    node->mNumChildren = static_cast<unsigned>(children.size());
+    node->mChildren = new aiNode*[children.size()];
+    for (std::size_t i = 0; i < children.size(); ++i) {
+      node->mChildren[i] = make_joint_node(motion, children[i], bind_root, node);
+    }
+  }
+  return node;
+}
+
+aiMesh* make_mesh(const Pose& bind_pose) {
+  const StickMesh stick = build_stick_mesh(bind_pose);
+  auto* mesh = new aiMesh;
+  mesh->mName = kMeshName;
+  mesh->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
+  mesh->mMaterialIndex = 0;
+  mesh->mNumVertices = static_cast<unsigned>(stick.positions.size());
+  mesh->mVertices = new aiVector3D[mesh->mNumVertices];
+  mesh->mNormals = new aiVector3D[mesh->mNumVertices];
+  for (unsigned i = 0; i < mesh->mNumVertices; ++i) {
+    mesh->mVertices[i] = to_ai(stick.positions[i].cast<double>());
+    mesh->mNormals[i] = to_ai(stick.normals[i].cast<double>());
+  }
+  mesh->mNumFaces = static_cast<unsigned>(stick.triangles.size());
+  mesh->mFaces = new aiFace[mesh->mNumFaces];
+  for (unsigned i = 0; i < mesh->mNumFaces; ++i) {
+    aiFace& face = mesh->mFaces[i];
+    face.mNumIndices = 3;
+    face.mIndices = new unsigned[3];
+    for (int k = 0; k < 3; ++k) face.mIndices[k] = stick.triangles[i][k];
+  }
+  // Every joint is a bone, weighted or not, so that importers build the full armature.
+  mesh->mNumBones = kJointCount;
+  mesh->mBones = new aiBone*[kJointCount];
+  for (int joint = 0; joint < kJointCount; ++joint) {
+    auto* bone = new aiBone;
+    bone->mName = std::string(joint_name(joint));
+    // Inverse bind matrix: joints carry no rotation in the bind pose, only their position.
+    bone->mOffsetMatrix = translation(-bind_pose[joint]);
+    std::vector<unsigned> vertices;
+    for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+      if (stick.vertex_joint[v] == joint) vertices.push_back(v);
+    }
+    bone->mNumWeights = static_cast<unsigned>(vertices.size());
+    if (!vertices.empty()) {
+      bone->mWeights = new aiVertexWeight[vertices.size()];
+      for (std::size_t i = 0; i < vertices.size(); ++i) {
+        bone->mWeights[i] = aiVertexWeight(vertices[i], 1.0f);
+      }
+    }
+    mesh->mBones[joint] = bone;
+  }
+  return mesh;
+}
+
+// Key times are written as mTime / mTicksPerSecond seconds by both exporters we use; ticks
+// equal to frame indices and ticks per second equal to fps give exact frame times.
+// `seconds_as_ticks` is for the FBX exporter of Assimp 5.2.5, which ignores mTicksPerSecond and
+// takes mTime in seconds (see write_fbx_ascii).
+aiAnimation* make_animation(const SkeletalMotion& motion, bool seconds_as_ticks) {
+  auto* animation = new aiAnimation;
+  animation->mName = animation_name(motion);
+  const double last = static_cast<double>(motion.frame_count() - 1);
+  animation->mTicksPerSecond = seconds_as_ticks ? 1.0 : motion.fps;
+  animation->mDuration = seconds_as_ticks ? last / motion.fps : last;
+  auto key_time = [&](std::size_t frame) {
+    return seconds_as_ticks ? static_cast<double>(frame) / motion.fps : static_cast<double>(frame);
+  };
+  const std::size_t frames = motion.frame_count();
+  animation->mNumChannels = kJointCount;
+  animation->mChannels = new aiNodeAnim*[kJointCount];
+  for (int joint = 0; joint < kJointCount; ++joint) {
+    auto* channel = new aiNodeAnim;
+    channel->mNodeName = std::string(joint_name(joint));
+    const bool root = joint_parent(joint) < 0;
+    // Non-root joints keep their rest offset; exporters still want one key of each kind.
+    channel->mNumPositionKeys = root ? static_cast<unsigned>(frames) : 1;
+    channel->mPositionKeys = new aiVectorKey[channel->mNumPositionKeys];
+    for (unsigned k = 0; k < channel->mNumPositionKeys; ++k) {
+      channel->mPositionKeys[k] = aiVectorKey(
+          key_time(k), to_ai(root ? motion.root_positions[k] : motion.rest_offsets[joint]));
+    }
+    channel->mNumRotationKeys = static_cast<unsigned>(frames);
+    channel->mRotationKeys = new aiQuatKey[frames];
+    Eigen::Quaterniond previous = Eigen::Quaterniond::Identity();
+    for (std::size_t f = 0; f < frames; ++f) {
+      Eigen::Quaterniond q = motion.local_rotations[f][joint].normalized();
+      // Same rotation, but the sign nearest the previous key so linear blending takes the
+      // short way.
+      if (q.dot(previous) < 0) q.coeffs() = -q.coeffs();
+      previous = q;
+      channel->mRotationKeys[f] = aiQuatKey(
+          key_time(f), aiQuaternion(static_cast<ai_real>(q.w()), static_cast<ai_real>(q.x()),
+                                    static_cast<ai_real>(q.y()), static_cast<ai_real>(q.z())));
+    }
+    channel->mNumScalingKeys = 1;
+    channel->mScalingKeys = new aiVectorKey[1];
+    channel->mScalingKeys[0] = aiVectorKey(0.0, aiVector3D(1, 1, 1));
+    animation->mChannels[joint] = channel;
+  }
+  return animation;
+}
+
+std::unique_ptr<aiScene> make_scene(const SkeletalMotion& motion, bool seconds_as_ticks) {
+  auto scene = std::make_unique<aiScene>();
+  const Eigen::Vector3d bind_root = bind_root_position(motion);
+  const Pose bind_pose = rest_pose(motion, bind_root);
+
+  scene->mRootNode = new aiNode(kRootNodeName);
+  auto* mesh_node = new aiNode(kMeshName);
+  mesh_node->mParent = scene->mRootNode;
+  mesh_node->mNumMeshes = 1;
+  mesh_node->mMeshes = new unsigned[1]{0};
+  scene->mRootNode->mNumChildren = 2;
+  scene->mRootNode->mChildren =
+      new aiNode* [2] { mesh_node, make_joint_node(motion, kPelvis, bind_root, scene->mRootNode) };
+
+  scene->mNumMaterials = 1;
+  scene->mMaterials = new aiMaterial*[1];
+  auto* material = new aiMaterial;
+  const aiString material_name(kMeshName);
+  material->AddProperty(&material_name, AI_MATKEY_NAME);
+  const aiColor4D grey(0.6f, 0.6f, 0.6f, 1.0f);
+  material->AddProperty(&grey, 1, AI_MATKEY_COLOR_DIFFUSE);
+  scene->mMaterials[0] = material;
+
+  scene->mNumMeshes = 1;
+  scene->mMeshes = new aiMesh* [1] { make_mesh(bind_pose) };
+  scene->mNumAnimations = 1;
+  scene->mAnimations = new aiAnimation* [1] { make_animation(motion, seconds_as_ticks) };
+  return scene;
+}
+
+std::uint32_t read_u32(const std::vector<std::uint8_t>& bytes, std::size_t at) {
+  return static_cast<std::uint32_t>(bytes[at]) | static_cast<std::uint32_t>(bytes[at + 1]) << 8 |
+         static_cast<std::uint32_t>(bytes[at + 2]) << 16 |
+         static_cast<std::uint32_t>(bytes[at + 3]) << 24;
+}
+
+// Assimp 5.2.5 leaves uninitialised heap bytes in the gaps between buffer views of the binary
+// chunk, so two exports of the same motion differ. Zeroing every byte no buffer view covers makes
+// the file a pure function of the motion without changing what any reader sees.
+void zero_unreferenced_glb_bytes(std::vector<std::uint8_t>& glb) {
+  constexpr std::uint32_t kJson = 0x4E4F534A;  // "JSON"
+  constexpr std::uint32_t kBin = 0x004E4942;   // "BIN\0"
+  // Header (12 bytes), then chunks of {length, type, data}.
+  if (glb.size() < 20 || read_u32(glb, 16) != kJson) return;
+  const std::size_t json_length = read_u32(glb, 12);
+  const std::size_t bin_header = 20 + json_length;
+  if (glb.size() < bin_header + 8 || read_u32(glb, bin_header + 4) != kBin) return;
+  const std::size_t bin_start = bin_header + 8;
+  const std::size_t bin_length =
+      std::min<std::size_t>(read_u32(glb, bin_header), glb.size() - bin_start);
+  const auto json = nlohmann::json::parse(glb.begin() + 20, glb.begin() + 20 + json_length, nullptr,
+                                          /*allow_exceptions=*/false);
+  if (json.is_discarded() || !json.contains("bufferViews")) return;
+  std::vector<bool> used(bin_length, false);
+  for (const auto& view : json["bufferViews"]) {
+    const std::size_t offset = view.value("byteOffset", std::size_t{0});
+    const std::size_t length = view.value("byteLength", std::size_t{0});
+    for (std::size_t i = offset; i < std::min(offset + length, bin_length); ++i) used[i] = true;
+  }
+  for (std::size_t i = 0; i < bin_length; ++i) {
+    if (!used[i]) glb[bin_start + i] = 0;
+  }
+}
+
+void export_scene(const aiScene& scene, const char* format_id, const char* format_name,
+                  const std::filesystem::path& path) {
+  Assimp::Exporter exporter;
+  const aiExportDataBlob* blob = exporter.ExportToBlob(&scene, format_id);
+  if (blob == nullptr) {
+    const std::string reason = exporter.GetErrorString();
+    throw Error(path.string() + ": " + format_name +
+                    " export failed: " + (reason.empty() ? "Assimp gave no reason" : reason),
+                ErrorKind::kFailure);
+  }
+  // glb and ASCII FBX are single files; Assimp returns any extra files in blob->next.
+  const auto* data = static_cast<const std::uint8_t*>(blob->data);
+  std::vector<std::uint8_t> bytes(data, data + blob->size);
+  if (std::string_view(format_id) == "glb2") zero_unreferenced_glb_bytes(bytes);
+  write_file_atomic(path, std::span<const std::uint8_t>(bytes));
+}
+
+}  // namespace
+
+void write_glb(const SkeletalMotion& motion, const std::filesystem::path& path) {
+  check_exportable(motion, "glTF");
+  const std::unique_ptr<aiScene> scene = make_scene(motion, /*seconds_as_ticks=*/false);
+  export_scene(*scene, "glb2", "glTF", path);
+}
+
+void write_fbx_ascii(const SkeletalMotion& motion, const std::filesystem::path& path) {
+  check_exportable(motion, "FBX");
+  // Assimp 5.2.5's FBX writer converts mTime to FBX time as if it were seconds, ignoring
+  // mTicksPerSecond (verified by re-importing), so keys are given in seconds. The binary FBX
+  // writer of that version is broken; the ASCII one ("fbxa") works.
+  const std::unique_ptr<aiScene> scene = make_scene(motion, /*seconds_as_ticks=*/true);
+  // FBX lengths are centimetres unless the file says otherwise: declare 1 unit = 100 cm so
+  // Blender and Unity import metres at their true size.
+  scene->mMetaData = new aiMetadata;
+  scene->mMetaData->Add("UnitScaleFactor", 100.0);
+  scene->mMetaData->Add("OriginalUnitScaleFactor", 100.0);
+  export_scene(*scene, "fbxa", "FBX", path);
+}
+
+}  // namespace wheelpose::motion
