@@ -102,14 +102,37 @@ class Parser {
   }
 
   double number(std::string_view text, int line) const {
-    if (!text.empty() && text[0] == '+') text.remove_prefix(1);
+    return number(text, line, [] { return std::string(); });
+  }
+
+  // `context` describes the value (frame, joint, channel) for the error message.
+  template <typename Context>
+  double number(std::string_view text, int line, Context context) const {
+    std::string_view digits = text;
+    if (!digits.empty() && digits[0] == '+') digits.remove_prefix(1);
     double value = 0;
-    auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (ec != std::errc() || end != text.data() + text.size()) {
-      fail(line, "'" + std::string(text) + "' is not a number");
+    auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+    if (ec != std::errc() || end != digits.data() + digits.size()) {
+      fail(line, "'" + std::string(text) + "' is not a number" + context());
     }
-    if (!std::isfinite(value)) fail(line, "'" + std::string(text) + "' is not a finite number");
+    if (!std::isfinite(value)) {
+      fail(line, "'" + std::string(text) + "' is not a finite number" + context());
+    }
     return value;
+  }
+
+  // " (frame F, joint J, channel C)" for value `k` of the frame line being read.
+  std::string channel_context(std::size_t k) const {
+    static constexpr const char* kChannelNames[] = {"Xposition", "Yposition", "Zposition",
+                                                    "Xrotation", "Yrotation", "Zrotation"};
+    for (const BvhJoint& joint : motion_.joints) {
+      auto first = static_cast<std::size_t>(joint.first_channel);
+      if (!joint.channels.empty() && k >= first && k < first + joint.channels.size()) {
+        return " (frame " + std::to_string(motion_.frames.size()) + ", joint " + joint.name +
+               ", channel " + kChannelNames[static_cast<int>(joint.channels[k - first])] + ")";
+      }
+    }
+    return "";
   }
 
   Eigen::Vector3d parse_offset() {
@@ -221,7 +244,9 @@ class Parser {
                        std::to_string(motion_.channel_count) + " (one per channel)");
       }
       std::vector<double> values(tokens.size());
-      for (std::size_t k = 0; k < tokens.size(); ++k) values[k] = number(tokens[k].text, line);
+      for (std::size_t k = 0; k < tokens.size(); ++k) {
+        values[k] = number(tokens[k].text, line, [&] { return channel_context(k); });
+      }
       motion_.frames.push_back(std::move(values));
     }
     if (motion_.frames.size() < expected) {
@@ -250,7 +275,7 @@ ImportMapping make_rig(const std::string& name, double scale, const std::vector<
   return m;
 }
 
-JointRecipe quarter(const char* a, const char* b, const char* c, const char* d) {
+JointRecipe recipe_quarter(const char* a, const char* b, const char* c, const char* d) {
   return {{a, .25}, {b, .25}, {c, .25}, {d, .25}};
 }
 
@@ -313,54 +338,55 @@ const std::vector<ImportMapping>& bvh_rigs() {
   static const std::vector<ImportMapping> rigs = {
       // CMU data as converted in bvh11 / the shared 131_0x.bvh files.
       make_rig("cmu", kCmuMetresPerUnit,
-               {{kPelvis, from("Hips")},
-                {kLeftHip, from("LeftHip")},
-                {kRightHip, from("RightHip")},
-                {kLeftKnee, from("LeftKnee")},
-                {kRightKnee, from("RightKnee")},
-                {kLeftAnkle, from("LeftAnkle")},
-                {kRightAnkle, from("RightAnkle")},
-                {kLeftToe, from("LeftToe")},
-                {kRightToe, from("RightToe")},
-                {kSpine, from("Chest")},
-                {kChest, mean("Chest", "Chest2")},
-                {kUpperChest, from("Chest2")},
-                {kNeckBase, quarter("LeftCollar", "LeftShoulder", "RightCollar", "RightShoulder")},
-                {kLeftClavicle, mean("LeftCollar", "LeftShoulder")},
-                {kRightClavicle, mean("RightCollar", "RightShoulder")},
-                {kHeadBase, from("Neck")},
-                {kHeadTop, from("Head.end")},
-                {kLeftShoulder, from("LeftShoulder")},
-                {kRightShoulder, from("RightShoulder")},
-                {kLeftElbow, from("LeftElbow")},
-                {kRightElbow, from("RightElbow")},
-                {kLeftWrist, from("LeftWrist")},
-                {kRightWrist, from("RightWrist")}}),
+               {{kPelvis, recipe_from("Hips")},
+                {kLeftHip, recipe_from("LeftHip")},
+                {kRightHip, recipe_from("RightHip")},
+                {kLeftKnee, recipe_from("LeftKnee")},
+                {kRightKnee, recipe_from("RightKnee")},
+                {kLeftAnkle, recipe_from("LeftAnkle")},
+                {kRightAnkle, recipe_from("RightAnkle")},
+                {kLeftToe, recipe_from("LeftToe")},
+                {kRightToe, recipe_from("RightToe")},
+                {kSpine, recipe_from("Chest")},
+                {kChest, recipe_mean("Chest", "Chest2")},
+                {kUpperChest, recipe_from("Chest2")},
+                {kNeckBase,
+                 recipe_quarter("LeftCollar", "LeftShoulder", "RightCollar", "RightShoulder")},
+                {kLeftClavicle, recipe_mean("LeftCollar", "LeftShoulder")},
+                {kRightClavicle, recipe_mean("RightCollar", "RightShoulder")},
+                {kHeadBase, recipe_from("Neck")},
+                {kHeadTop, recipe_from("Head.end")},
+                {kLeftShoulder, recipe_from("LeftShoulder")},
+                {kRightShoulder, recipe_from("RightShoulder")},
+                {kLeftElbow, recipe_from("LeftElbow")},
+                {kRightElbow, recipe_from("RightElbow")},
+                {kLeftWrist, recipe_from("LeftWrist")},
+                {kRightWrist, recipe_from("RightWrist")}}),
       // CMU data as converted for MotionBuilder (cgspeed names).
       make_rig("cmu_mb", kCmuMetresPerUnit,
-               {{kPelvis, from("Hips")},
-                {kLeftHip, from("LeftUpLeg")},
-                {kRightHip, from("RightUpLeg")},
-                {kLeftKnee, from("LeftLeg")},
-                {kRightKnee, from("RightLeg")},
-                {kLeftAnkle, from("LeftFoot")},
-                {kRightAnkle, from("RightFoot")},
-                {kLeftToe, from("LeftToeBase")},
-                {kRightToe, from("RightToeBase")},
-                {kSpine, from("Spine")},
-                {kChest, mean("Spine", "Spine1")},
-                {kUpperChest, from("Spine1")},
-                {kNeckBase, quarter("LeftShoulder", "LeftArm", "RightShoulder", "RightArm")},
-                {kLeftClavicle, mean("LeftShoulder", "LeftArm")},
-                {kRightClavicle, mean("RightShoulder", "RightArm")},
-                {kHeadBase, from("Neck1")},
-                {kHeadTop, from("Head.end")},
-                {kLeftShoulder, from("LeftArm")},
-                {kRightShoulder, from("RightArm")},
-                {kLeftElbow, from("LeftForeArm")},
-                {kRightElbow, from("RightForeArm")},
-                {kLeftWrist, from("LeftHand")},
-                {kRightWrist, from("RightHand")}}),
+               {{kPelvis, recipe_from("Hips")},
+                {kLeftHip, recipe_from("LeftUpLeg")},
+                {kRightHip, recipe_from("RightUpLeg")},
+                {kLeftKnee, recipe_from("LeftLeg")},
+                {kRightKnee, recipe_from("RightLeg")},
+                {kLeftAnkle, recipe_from("LeftFoot")},
+                {kRightAnkle, recipe_from("RightFoot")},
+                {kLeftToe, recipe_from("LeftToeBase")},
+                {kRightToe, recipe_from("RightToeBase")},
+                {kSpine, recipe_from("Spine")},
+                {kChest, recipe_mean("Spine", "Spine1")},
+                {kUpperChest, recipe_from("Spine1")},
+                {kNeckBase, recipe_quarter("LeftShoulder", "LeftArm", "RightShoulder", "RightArm")},
+                {kLeftClavicle, recipe_mean("LeftShoulder", "LeftArm")},
+                {kRightClavicle, recipe_mean("RightShoulder", "RightArm")},
+                {kHeadBase, recipe_from("Neck1")},
+                {kHeadTop, recipe_from("Head.end")},
+                {kLeftShoulder, recipe_from("LeftArm")},
+                {kRightShoulder, recipe_from("RightArm")},
+                {kLeftElbow, recipe_from("LeftForeArm")},
+                {kRightElbow, recipe_from("RightForeArm")},
+                {kLeftWrist, recipe_from("LeftHand")},
+                {kRightWrist, recipe_from("RightHand")}}),
   };
   return rigs;
 }

@@ -86,10 +86,12 @@ TEST(ParseBvh, ReportsMalformedFilesWithLineNumbers) {
               HasSubstr("truncated MOTION section: 'Frames: 2' but only 1 frame lines"));
   EXPECT_THAT(error_of(head + "1 2 3 0 0 0 0 0\n1 2 3 0 0 0 0\n"),
               HasSubstr("t.bvh:20: 7 values on a frame line, expected 8"));
-  EXPECT_THAT(error_of(head + "1 2 3 0 0 0 0 0\n1 2 abc 0 0 0 0 0\n"),
-              HasSubstr("t.bvh:20: 'abc' is not a number"));
-  EXPECT_THAT(error_of(head + "1 2 3 0 0 0 0 0\n1 2 nan 0 0 0 0 0\n"),
-              HasSubstr("t.bvh:20: 'nan' is not a finite number"));
+  EXPECT_THAT(
+      error_of(head + "1 2 3 0 0 0 0 0\n1 2 abc 0 0 0 0 0\n"),
+      HasSubstr("t.bvh:20: 'abc' is not a number (frame 1, joint Hips, channel Zposition)"));
+  EXPECT_THAT(
+      error_of(head + "1 2 3 0 0 0 0 0\n1 2 nan 0 0 0 0 0\n"),
+      HasSubstr("t.bvh:20: 'nan' is not a finite number (frame 1, joint Hips, channel Zposition)"));
   EXPECT_THAT(error_of(head + "1 2 3 0 0 0 0 0\n1 2 3 0 0 0 0 0\n1 2 3 0 0 0 0 0\n"),
               HasSubstr("t.bvh:21: more frame lines than 'Frames: 2'"));
   EXPECT_THAT(error_of(std::string(kTinyHierarchy)), HasSubstr("no MOTION section"));

@@ -29,11 +29,11 @@ ImportMapping wheelpose23_mapping() {
   ImportMapping m;
   m.name = "wheelpose23";
   for (int j = 0; j < kJointCount; ++j) {
-    m.joints[j] = {from(std::string(joint_name(j)))};
+    m.joints[j] = {recipe_from(std::string(joint_name(j)))};
     m.known_sources.emplace_back(joint_name(j));
   }
   // The neck base may be left out: it is the mean of the clavicles (reference §1.1).
-  m.joints[kNeckBase].push_back(mean("left_clavicle", "right_clavicle"));
+  m.joints[kNeckBase].push_back(recipe_mean("left_clavicle", "right_clavicle"));
   return m;
 }
 
@@ -56,29 +56,29 @@ ImportMapping blazepose33_mapping() {
   const char* rs = "right_shoulder";
   const char* le = "left_ear";
   const char* re = "right_ear";
-  set(kPelvis, mean(lh, rh));
-  set(kLeftHip, from(lh));
-  set(kRightHip, from(rh));
+  set(kPelvis, recipe_mean(lh, rh));
+  set(kLeftHip, recipe_from(lh));
+  set(kRightHip, recipe_from(rh));
   set(kSpine, {{lh, .375}, {rh, .375}, {ls, .125}, {rs, .125}});
   set(kChest, {{lh, .25}, {rh, .25}, {ls, .25}, {rs, .25}});
   set(kUpperChest, {{lh, .125}, {rh, .125}, {ls, .375}, {rs, .375}});
-  set(kNeckBase, mean(ls, rs));
+  set(kNeckBase, recipe_mean(ls, rs));
   set(kLeftClavicle, {{ls, .6}, {rs, .4}});
   set(kRightClavicle, {{rs, .6}, {ls, .4}});
   set(kHeadBase, {{ls, .25}, {rs, .25}, {le, .25}, {re, .25}});
   set(kHeadTop, {{le, .75}, {re, .75}, {ls, -.25}, {rs, -.25}});
-  set(kLeftShoulder, from(ls));
-  set(kRightShoulder, from(rs));
-  set(kLeftElbow, from("left_elbow"));
-  set(kRightElbow, from("right_elbow"));
-  set(kLeftWrist, from("left_wrist"));
-  set(kRightWrist, from("right_wrist"));
-  set(kLeftKnee, from("left_knee"));
-  set(kRightKnee, from("right_knee"));
-  set(kLeftAnkle, from("left_ankle"));
-  set(kRightAnkle, from("right_ankle"));
-  set(kLeftToe, from("left_foot_index"));
-  set(kRightToe, from("right_foot_index"));
+  set(kLeftShoulder, recipe_from(ls));
+  set(kRightShoulder, recipe_from(rs));
+  set(kLeftElbow, recipe_from("left_elbow"));
+  set(kRightElbow, recipe_from("right_elbow"));
+  set(kLeftWrist, recipe_from("left_wrist"));
+  set(kRightWrist, recipe_from("right_wrist"));
+  set(kLeftKnee, recipe_from("left_knee"));
+  set(kRightKnee, recipe_from("right_knee"));
+  set(kLeftAnkle, recipe_from("left_ankle"));
+  set(kRightAnkle, recipe_from("right_ankle"));
+  set(kLeftToe, recipe_from("left_foot_index"));
+  set(kRightToe, recipe_from("right_foot_index"));
   return m;
 }
 

@@ -55,8 +55,8 @@ Pose apply_mapping(const ResolvedMapping& mapping, const std::vector<Eigen::Vect
   return pose;
 }
 
-JointRecipe from(const std::string& a) { return {{a, 1.0}}; }
+JointRecipe recipe_from(const std::string& a) { return {{a, 1.0}}; }
 
-JointRecipe mean(const std::string& a, const std::string& b) { return {{a, 0.5}, {b, 0.5}}; }
+JointRecipe recipe_mean(const std::string& a, const std::string& b) { return {{a, 0.5}, {b, 0.5}}; }
 
 }  // namespace wheelpose::motion

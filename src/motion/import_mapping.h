@@ -47,7 +47,7 @@ ResolvedMapping resolve_mapping(const ImportMapping& mapping, const std::vector<
 Pose apply_mapping(const ResolvedMapping& mapping, const std::vector<Eigen::Vector3d>& points);
 
 // Helpers for writing tables.
-JointRecipe from(const std::string& a);
-JointRecipe mean(const std::string& a, const std::string& b);
+JointRecipe recipe_from(const std::string& a);
+JointRecipe recipe_mean(const std::string& a, const std::string& b);
 
 }  // namespace wheelpose::motion

@@ -19,7 +19,7 @@ const ImportMapping& smpl22_mapping() {
   static const ImportMapping mapping = [] {
     ImportMapping m;
     m.name = "smpl22";
-    auto set = [&](Joint j, const std::string& source) { m.joints[j] = {from(source)}; };
+    auto set = [&](Joint j, const std::string& source) { m.joints[j] = {recipe_from(source)}; };
     set(kPelvis, "pelvis");
     set(kLeftHip, "left_hip");
     set(kRightHip, "right_hip");
@@ -42,7 +42,7 @@ const ImportMapping& smpl22_mapping() {
     set(kRightElbow, "right_elbow");
     set(kLeftWrist, "left_wrist");
     set(kRightWrist, "right_wrist");
-    m.joints[kNeckBase] = {from("neck_base"), mean("left_collar", "right_collar")};
+    m.joints[kNeckBase] = {recipe_from("neck_base"), recipe_mean("left_collar", "right_collar")};
     return m;
   }();
   return mapping;
@@ -86,6 +86,7 @@ PositionClip import_npy(const std::filesystem::path& path, const ImportOptions& 
   clip.name = path.stem().string();
   clip.source = where;
   clip.fps = options.fps > 0 ? options.fps : kHumanMl3dFps;
+  clip.handedness_uncertain = true;  // HumanML3D mixes mirrored (HumanAct12) and standard data
   clip.frames.reserve(frames);
   std::vector<Eigen::Vector3d> points(joints);
   for (std::size_t t = 0; t < frames; ++t) {
