@@ -36,6 +36,13 @@ eval::ResultReport evaluate_file(const std::string& path, const eval::CocoGround
                                  const eval::KeypointTemplate& t, bool keypoints, bool bbox,
                                  std::unique_ptr<eval::CocoResults>& results) {
   results = std::make_unique<eval::CocoResults>(eval::load_coco_results(path, gt, t.size()));
+  // pycocotools silently drops detections of categories absent from the GT; say so.
+  std::size_t foreign = 0;
+  for (const auto& d : results->detections) foreign += gt.category_position(d.category_id) < 0;
+  if (foreign > 0) {
+    spdlog::warn("{}: {} detection(s) have a category_id not in the ground truth; ignored", path,
+                 foreign);
+  }
   eval::ResultReport report;
   report.results_path = path;
   if (keypoints) {
@@ -69,6 +76,11 @@ void run_eval(const EvalOptions& o) {
   const bool bbox = o.type != "keypoints";
   const eval::KeypointTemplate t = eval::load_keypoint_template(o.keypoint_template);
   const eval::CocoGroundTruth gt = eval::load_coco_gt(o.gt, t.size(), keypoints);
+  std::size_t orphans = 0;
+  for (const auto& a : gt.annotations) orphans += gt.image_position(a.image_id) < 0;
+  if (orphans > 0) {
+    spdlog::warn("{}: {} annotation(s) refer to image ids not in 'images'; ignored", o.gt, orphans);
+  }
   std::unique_ptr<eval::CocoResults> ours_results, base_results;
   const eval::ResultReport ours = evaluate_file(o.dt, gt, t, keypoints, bbox, ours_results);
   std::optional<eval::ResultReport> base;
