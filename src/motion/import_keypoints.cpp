@@ -175,7 +175,9 @@ const std::vector<ImportMapping>& keypoint_mappings() {
 PositionClip import_keypoints_csv(const std::filesystem::path& path, const ImportOptions& options) {
   const std::string where = path.string();
   const ImportMapping& mapping = find_mapping(options.mapping, where);
-  const std::string text = read_file(path);
+  std::string text = read_file(path);
+  // Spreadsheet programs may start a UTF-8 CSV with a byte-order mark.
+  if (text.starts_with("\xEF\xBB\xBF")) text.erase(0, 3);
   RawSequence raw;
 
   std::vector<std::string_view> header;

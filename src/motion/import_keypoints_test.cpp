@@ -92,7 +92,7 @@ TEST(ImportKeypoints, Wheelpose23LongCsvDerivesTheNeckBase) {
 TEST(ImportKeypoints, LongAndWideCsvAndJsonAgree) {
   ScratchDir dir;
   PositionClip a = import_keypoints_csv(dir.write("a.csv", long_csv(4, true)), {});
-  PositionClip b = import_keypoints_csv(dir.write("b.csv", wide_csv(4)), {});
+  PositionClip b = import_keypoints_csv(dir.write("b.csv", "\xEF\xBB\xBF" + wide_csv(4)), {});
   std::ostringstream json;
   json << "{\"joints\": [";
   for (int j = 0; j < kJointCount; ++j) json << (j ? "," : "") << '"' << joint_name(j) << '"';
