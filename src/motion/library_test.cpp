@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -72,6 +73,28 @@ TEST(Library, EveryClipIsPlausibleFiniteAndTwoToTenSeconds) {
       }
       const auto problems = plausibility_problems(clip.frames);
       EXPECT_THAT(problems, ::testing::IsEmpty()) << clip.name << " seed " << seed;
+    }
+  }
+}
+
+// No jumps: joints move less than 0.2 m per frame (6 m/s at 30 fps), also across the wrap of
+// a looping clip, whose last frame must flow into its first.
+TEST(Library, ClipsAreSmoothAndLoopsWrapSeamlessly) {
+  for (const PositionClip& clip : library_clips(1)) {
+    const bool loop = library_definition(clip.name).loop;
+    double worst_step = 0.0;
+    for (std::size_t f = 1; f < clip.frames.size(); ++f) {
+      for (int j = 0; j < kJointCount; ++j) {
+        worst_step = std::max(worst_step, (clip.frames[f][j] - clip.frames[f - 1][j]).norm());
+      }
+    }
+    EXPECT_LT(worst_step, 0.2) << clip.name;
+    if (loop) {
+      double wrap = 0.0;
+      for (int j = 0; j < kJointCount; ++j) {
+        wrap = std::max(wrap, (clip.frames.front()[j] - clip.frames.back()[j]).norm());
+      }
+      EXPECT_LE(wrap, std::max(worst_step, 1e-9) * 1.01) << clip.name;
     }
   }
 }

@@ -260,8 +260,15 @@ std::vector<std::string> plausibility_problems(const std::vector<Pose>& frames) 
                           {kRightElbow, kRightWrist, "right forearm"}};
     for (const Limb& limb : limbs) {
       for (const Core& core : cores) {
-        const double distance =
-            segment_distance(p[limb.from], p[limb.to], p[core.from], p[core.to]);
+        // The head core stops one radius below head_top, so that its surface ends at the crown
+        // and a hand may rest on top of the head.
+        Vector3d core_end = p[core.to];
+        if (core.to == kHeadTop) {
+          const Vector3d axis = p[kHeadTop] - p[kHeadBase];
+          const double length = axis.norm();
+          if (length > core.radius) core_end = p[kHeadTop] - axis * (core.radius / length);
+        }
+        const double distance = segment_distance(p[limb.from], p[limb.to], p[core.from], core_end);
         if (distance < core.radius) {
           log.add(std::string(limb.name) + core.name, f,
                   std::string(limb.name) + " passes through the " + core.name +
