@@ -181,6 +181,26 @@ void draw_frame(cv::Mat& image, const Layout& layout, const Pose& pose, int view
   }
 }
 
+// Smallest rectangle holding every pixel that differs between two frames; a single pixel when
+// nothing changed (a GIF frame cannot be empty).
+cv::Rect changed_rectangle(const std::vector<std::uint8_t>& before,
+                           const std::vector<std::uint8_t>& after, int size) {
+  int x0 = size, y0 = size, x1 = -1, y1 = -1;
+  for (int y = 0; y < size; ++y) {
+    const std::size_t row = static_cast<std::size_t>(y) * size;
+    for (int x = 0; x < size; ++x) {
+      if (before[row + x] != after[row + x]) {
+        x0 = std::min(x0, x);
+        x1 = std::max(x1, x);
+        y0 = std::min(y0, y);
+        y1 = std::max(y1, y);
+      }
+    }
+  }
+  if (x1 < 0) return cv::Rect(0, 0, 1, 1);
+  return cv::Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
+}
+
 int append_to_buffer(GifFileType* gif, const GifByteType* data, int length) {
   auto* buffer = static_cast<std::vector<std::uint8_t>*>(gif->UserData);
   buffer->insert(buffer->end(), data, data + length);
@@ -270,17 +290,23 @@ void write_preview_gif(const std::vector<Pose>& positions, double fps,
   control.TransparentColor = NO_TRANSPARENT_COLOR;
   GifByteType control_bytes[4];
   EGifGCBToExtension(&control, control_bytes);
-  for (const std::vector<std::uint8_t>& frame : frames) {
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    // Frames are drawn over the previous one (DISPOSE_DO_NOT), so only the rectangle that
+    // changed is stored: the floor and labels never change, which shrinks files several-fold.
+    const cv::Rect rect =
+        f == 0 ? cv::Rect(0, 0, size, size) : changed_rectangle(frames[f - 1], frames[f], size);
     if (EGifPutExtension(gif, GRAPHICS_EXT_FUNC_CODE, 4, control_bytes) == GIF_ERROR) {
       fail("frame delay");
     }
-    if (EGifPutImageDesc(gif, 0, 0, size, size, false, nullptr) == GIF_ERROR) {
+    if (EGifPutImageDesc(gif, rect.x, rect.y, rect.width, rect.height, false, nullptr) ==
+        GIF_ERROR) {
       fail("image descriptor");
     }
-    for (int row = 0; row < size; ++row) {
+    for (int row = rect.y; row < rect.y + rect.height; ++row) {
       // giflib takes non-const rows but does not modify them.
-      auto* line = const_cast<GifPixelType*>(frame.data() + static_cast<std::size_t>(row) * size);
-      if (EGifPutLine(gif, line, size) == GIF_ERROR) fail("pixel data");
+      auto* line = const_cast<GifPixelType*>(frames[f].data() +
+                                             static_cast<std::size_t>(row) * size + rect.x);
+      if (EGifPutLine(gif, line, rect.width) == GIF_ERROR) fail("pixel data");
     }
   }
   if (EGifCloseFile(gif, &error) == GIF_ERROR) {

@@ -40,6 +40,27 @@ GifPtr decode(const std::filesystem::path& path) {
   return gif;
 }
 
+// Plays the GIF: every image is drawn over the canvas at its position (all our frames use
+// DISPOSE_DO_NOT and no transparency).
+std::vector<std::vector<std::uint8_t>> compose(const GifFileType& gif) {
+  std::vector<std::uint8_t> canvas(static_cast<std::size_t>(gif.SWidth) * gif.SHeight,
+                                   static_cast<std::uint8_t>(gif.SBackGroundColor));
+  std::vector<std::vector<std::uint8_t>> frames;
+  for (int i = 0; i < gif.ImageCount; ++i) {
+    const GifImageDesc& d = gif.SavedImages[i].ImageDesc;
+    EXPECT_LE(d.Left + d.Width, gif.SWidth);
+    EXPECT_LE(d.Top + d.Height, gif.SHeight);
+    for (int y = 0; y < d.Height; ++y) {
+      for (int x = 0; x < d.Width; ++x) {
+        canvas[static_cast<std::size_t>(d.Top + y) * gif.SWidth + d.Left + x] =
+            gif.SavedImages[i].RasterBits[y * d.Width + x];
+      }
+    }
+    frames.push_back(canvas);
+  }
+  return frames;
+}
+
 bool has_loop_extension(const GifFileType& gif) {
   for (int i = 0; i < gif.ImageCount; ++i) {
     const SavedImage& image = gif.SavedImages[i];
@@ -116,10 +137,11 @@ TEST(PreviewGif, DecodesWithFramesLoopDelayAndPalette) {
     GraphicsControlBlock control;
     ASSERT_EQ(DGifSavedExtensionToGCB(gif.get(), i, &control), GIF_OK);
     EXPECT_EQ(control.DelayTime, 3);  // 100 / 30 fps, rounded
+    EXPECT_EQ(control.DisposalMode, DISPOSE_DO_NOT);
     const SavedImage& image = gif->SavedImages[i];
-    EXPECT_EQ(image.ImageDesc.Width, 192);
+    const int pixels = image.ImageDesc.Width * image.ImageDesc.Height;
     int left = 0, right = 0, centre = 0;
-    for (int p = 0; p < 192 * 192; ++p) {
+    for (int p = 0; p < pixels; ++p) {
       left += image.RasterBits[p] == kPreviewLeft;
       right += image.RasterBits[p] == kPreviewRight;
       centre += image.RasterBits[p] == kPreviewCentre;
@@ -128,13 +150,23 @@ TEST(PreviewGif, DecodesWithFramesLoopDelayAndPalette) {
     EXPECT_GT(right, 0) << "frame " << i;
     EXPECT_GT(centre, 0) << "frame " << i;
   }
-  // The pose changes every frame, so every frame differs from the previous one.
-  for (int i = 1; i < gif->ImageCount; ++i) {
-    EXPECT_NE(
-        std::memcmp(gif->SavedImages[i].RasterBits, gif->SavedImages[i - 1].RasterBits, 192 * 192),
-        0)
-        << "frame " << i;
+  // Played back (each frame drawn over the previous one), the GIF shows exactly the rendered
+  // frames; the pose changes every frame, so every frame differs from the previous one.
+  const std::vector<std::vector<std::uint8_t>> composed = compose(*gif);
+  EXPECT_TRUE(composed == render_preview_frames(positions, 96));
+  for (std::size_t i = 1; i < composed.size(); ++i) {
+    EXPECT_NE(composed[i], composed[i - 1]) << "frame " << i;
   }
+  // A still clip stores one full frame and then single-pixel updates.
+  write_preview_gif(std::vector<Pose>(4, positions[0]), motion.fps, dir / "still.gif", options);
+  GifPtr still = decode(dir / "still.gif");
+  ASSERT_NE(still, nullptr);
+  ASSERT_EQ(still->ImageCount, 4);
+  EXPECT_EQ(still->SavedImages[0].ImageDesc.Width, 192);
+  EXPECT_EQ(still->SavedImages[3].ImageDesc.Width * still->SavedImages[3].ImageDesc.Height, 1);
+  const auto still_frames = compose(*still);
+  EXPECT_EQ(still_frames[3], still_frames[0]);
+  EXPECT_TRUE(still_frames == render_preview_frames(std::vector<Pose>(4, positions[0]), 96));
   // The options' fps overrides the clip's.
   options.fps = 10;
   write_preview_gif(positions, motion.fps, dir / "slow.gif", options);
