@@ -5,11 +5,13 @@
 #include <algorithm>
 #include <assimp/Exporter.hpp>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "core/atomic_file.h"
@@ -224,6 +226,30 @@ void zero_unreferenced_glb_bytes(std::vector<std::uint8_t>& glb) {
   }
 }
 
+// The ASCII FBX header carries the wall-clock time of the export; a fixed date (the Unix epoch)
+// keeps the file a pure function of the motion.
+void fix_fbx_timestamp(std::vector<std::uint8_t>& fbx) {
+  std::string text(fbx.begin(), fbx.end());
+  const std::size_t begin = text.find("CreationTimeStamp:");
+  if (begin == std::string::npos) return;
+  const std::size_t end = text.find('}', begin);
+  if (end == std::string::npos) return;
+  static const std::pair<const char*, const char*> kFields[] = {
+      {"Year: ", "1970"}, {"Month: ", "1"},  {"Day: ", "1"},         {"Hour: ", "0"},
+      {"Minute: ", "0"},  {"Second: ", "0"}, {"Millisecond: ", "0"},
+  };
+  std::string block = text.substr(begin, end - begin);
+  for (const auto& [key, value] : kFields) {
+    const std::size_t at = block.find(key);
+    if (at == std::string::npos) continue;
+    const std::size_t digits = at + std::strlen(key);
+    const std::size_t stop = block.find_first_not_of("0123456789", digits);
+    block.replace(digits, stop - digits, value);
+  }
+  text.replace(begin, end - begin, block);
+  fbx.assign(text.begin(), text.end());
+}
+
 void export_scene(const aiScene& scene, const char* format_id, const char* format_name,
                   const std::filesystem::path& path) {
   Assimp::Exporter exporter;
@@ -238,6 +264,7 @@ void export_scene(const aiScene& scene, const char* format_id, const char* forma
   const auto* data = static_cast<const std::uint8_t*>(blob->data);
   std::vector<std::uint8_t> bytes(data, data + blob->size);
   if (std::string_view(format_id) == "glb2") zero_unreferenced_glb_bytes(bytes);
+  if (std::string_view(format_id) == "fbxa") fix_fbx_timestamp(bytes);
   write_file_atomic(path, std::span<const std::uint8_t>(bytes));
 }
 
