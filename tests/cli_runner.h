@@ -17,4 +17,7 @@ CliResult run_wheelpose(const std::string& args);
 // A fresh empty directory under the system temp dir, unique per test.
 std::filesystem::path fresh_temp_dir(const std::string& name);
 
+// The whole file as bytes ("" if it cannot be read).
+std::string read_text(const std::filesystem::path& path);
+
 }  // namespace wheelpose::testing

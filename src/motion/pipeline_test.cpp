@@ -121,6 +121,13 @@ TEST(MotionOptions, ReadsConfigAndRejectsUnknownKeys) {
   }
 }
 
+TEST(MotionOptions, ShippedConfigStatesExactlyTheDefaults) {
+  auto root = ConfigNode::load_file(std::string(WHEELPOSE_SOURCE_DIR) + "/configs/motion.yaml");
+  MotionOptions shipped = MotionOptions::from_config(root.child("motion"));
+  root.finish();
+  EXPECT_EQ(shipped.to_json(), MotionOptions{}.to_json());
+}
+
 TEST(SeatedClipJson, RoundTripsWithinRounding) {
   SeatedClip seated = run_motion_pipeline(testing::synthetic_clip(30, 20, 2), MotionOptions{});
   auto path = std::filesystem::temp_directory_path() / "wheelpose_clip_roundtrip.json";

@@ -9,9 +9,16 @@ namespace {
 // The joints that carry several bones, with the child pair that defines their frame.
 bool is_branch_joint(int joint) { return joint == kPelvis || joint == kNeckBase; }
 
+// Motion capture rigs move these children independently (CMU's lower back, collars and lower
+// neck rotate on their own), so a fixed rest offset cannot place all three. Each frame is chosen
+// to carry the upper body exactly: the pelvis's +Y runs exactly along the spine (the hips, which
+// seating replaces, absorb the difference); the neck base's +X runs exactly along the clavicle
+// line, so both arms are exact (the head base absorbs the difference).
 Eigen::Quaterniond branch_frame(const Pose& pose, int joint) {
   if (joint == kPelvis) {
-    return frame_from_axes(pose[kLeftHip] - pose[kRightHip], pose[kSpine] - pose[kPelvis]);
+    const Eigen::Vector3d up = (pose[kSpine] - pose[kPelvis]).normalized();
+    const Eigen::Vector3d side = pose[kLeftHip] - pose[kRightHip];
+    return frame_from_axes(side - side.dot(up) * up, up);
   }
   return frame_from_axes(pose[kLeftClavicle] - pose[kRightClavicle],
                          pose[kHeadBase] - pose[kNeckBase]);

@@ -1,0 +1,67 @@
+#include "motion/batch.h"
+
+#include <tbb/parallel_for.h>
+
+#include <map>
+#include <optional>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+
+namespace wheelpose::motion {
+
+BatchResult convert_batch(std::size_t count, const std::function<PositionClip(std::size_t)>& load,
+                          const MotionOptions& options,
+                          const std::vector<const ClipExporter*>& exporters,
+                          const std::filesystem::path& out_dir) {
+  ensure_directory(out_dir);
+  std::vector<std::optional<SeatedClip>> clips(count);
+  std::vector<std::string> errors(count);
+  // Each clip depends only on its own input and the seed, so thread scheduling cannot change
+  // any output byte.
+  tbb::parallel_for(std::size_t{0}, count, [&](std::size_t i) {
+    try {
+      clips[i] = run_motion_pipeline(load(i), options);
+    } catch (const Error& e) {
+      errors[i] = e.what();
+    }
+  });
+
+  BatchResult result;
+  std::map<std::string, std::size_t> first_with_name;
+  for (std::size_t i = 0; i < count; ++i) {
+    if (!clips[i]) {
+      result.failures.push_back(errors[i]);
+      continue;
+    }
+    const std::string& name = clips[i]->motion.name;
+    auto [it, inserted] = first_with_name.emplace(name, i);
+    if (!inserted) {
+      result.failures.push_back(clips[i]->provenance["source"].get<std::string>() +
+                                ": clip name '" + name + "' is already used by input " +
+                                std::to_string(it->second + 1));
+      clips[i].reset();
+    }
+  }
+  tbb::parallel_for(std::size_t{0}, count, [&](std::size_t i) {
+    if (!clips[i]) return;
+    for (const ClipExporter* exporter : exporters) {
+      try {
+        exporter->write(*clips[i], out_dir / (clips[i]->motion.name + exporter->extension));
+      } catch (const Error& e) {
+        errors[i] = e.what();
+      }
+    }
+  });
+  for (std::size_t i = 0; i < count; ++i) {
+    if (!clips[i]) continue;
+    if (!errors[i].empty()) {
+      result.failures.push_back(errors[i]);
+    } else {
+      result.written.push_back(clips[i]->motion.name);
+    }
+  }
+  return result;
+}
+
+}  // namespace wheelpose::motion
