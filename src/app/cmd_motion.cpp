@@ -75,7 +75,7 @@ void attach_convert(CLI::App& motion) {
   command->add_option("--fps", flags->import.fps, "Source frame rate (default: the format's)")
       ->check(CLI::PositiveNumber);
   command->add_option("--mapping", flags->import.mapping,
-                      "Joint mapping: bvh: cmu; csv/json: wheelpose23, blazepose33");
+                      "Joint mapping: npy: smpl22; bvh: cmu, cmu_mb; csv/json: wheelpose23, blazepose33");
   command->add_option("--unit-scale", flags->import.unit_scale,
                       "Metres per source unit (default: the mapping's)")
       ->check(CLI::PositiveNumber);
@@ -138,6 +138,7 @@ void attach_preview(CLI::App& motion) {
     std::string clip;
     std::string out;
     int size = 256;
+    double fps = 0;
   };
   auto flags = std::make_shared<Flags>();
   command->add_option("clip", flags->clip, "Seated clip JSON (from convert or library)")
@@ -146,10 +147,13 @@ void attach_preview(CLI::App& motion) {
   command->add_option("--size", flags->size, "Pixel size of each of the four views")
       ->check(CLI::Range(64, 1024))
       ->capture_default_str();
+  command->add_option("--fps", flags->fps, "Playback rate (default: the clip's)")
+      ->check(CLI::PositiveNumber);
   command->callback([flags] {
     const SeatedClip clip = read_seated_clip_json(flags->clip);
     PreviewOptions options;
     options.view_size = flags->size;
+    options.fps = flags->fps;
     write_preview_gif(clip.positions, clip.motion.fps, flags->out, options);
     spdlog::info("wrote {} ({} frames)", flags->out, clip.positions.size());
   });
