@@ -6,6 +6,8 @@
 
 #include "core/error.h"
 #include "motion/clip_json.h"
+#include "motion/library.h"
+#include "motion/plausibility.h"
 #include "motion/test_support.h"
 
 namespace wheelpose::motion {
@@ -140,6 +142,26 @@ TEST(SeatedClipJson, RoundTripsWithinRounding) {
   EXPECT_LT(testing::max_joint_error(forward_kinematics(back.motion), back.positions), 1e-5);
   EXPECT_EQ(seated_clip_json_text(back), seated_clip_json_text(seated));
   std::filesystem::remove(path);
+}
+
+}  // namespace
+}  // namespace wheelpose::motion
+
+namespace wheelpose::motion {
+namespace {
+
+TEST(MotionPipeline, EverySeatedLibraryClipIsPlausible) {
+  // Seating (new legs, heading-only pelvis, filtering) must not push the built-in motions out
+  // of human joint ranges or through the body.
+  for (std::uint64_t seed : {1u, 2u}) {
+    MotionOptions options;
+    options.seed = seed;
+    for (const PositionClip& clip : library_clips(seed)) {
+      const SeatedClip seated = run_motion_pipeline(clip, options);
+      const auto problems = plausibility_problems(seated.positions);
+      EXPECT_TRUE(problems.empty()) << clip.name << " seed " << seed << ": " << problems.front();
+    }
+  }
 }
 
 }  // namespace
