@@ -1,0 +1,143 @@
+#include "render/post.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "core/random.h"
+#include "render/texture.h"
+
+namespace wheelpose::render {
+namespace {
+
+constexpr float kMidGrey = 0.18f;
+
+float luminance(const cv::Vec3f& c) { return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]; }
+
+cv::Mat blur(const cv::Mat& image, double sigma) {
+  cv::Mat out;
+  cv::GaussianBlur(image, out, cv::Size(0, 0), sigma, sigma, cv::BORDER_REFLECT);
+  return out;
+}
+
+// Depth-of-field blur: a circle of confusion per pixel from its depth, blending between the sharp
+// image and three blur levels (cheap and smooth, unlike a true per-pixel gather).
+cv::Mat lens_blur(const cv::Mat& linear, const cv::Mat& depth, float max_radius, float focus) {
+  const std::array<float, 3> radii = {max_radius / 4, max_radius / 2, max_radius};
+  std::array<cv::Mat, 4> levels = {linear, blur(linear, std::max(0.3f, radii[0] / 2)),
+                                   blur(linear, std::max(0.3f, radii[1] / 2)),
+                                   blur(linear, std::max(0.3f, radii[2] / 2))};
+  cv::Mat out = linear.clone();
+  for (int y = 0; y < linear.rows; ++y) {
+    for (int x = 0; x < linear.cols; ++x) {
+      const float d = depth.at<float>(y, x);
+      const float coc =
+          d > 0 ? std::min(max_radius, max_radius * std::abs(d - focus) / std::max(d, 1e-3f))
+                : max_radius;
+      // Position of coc on the level scale 0, r/4, r/2, r.
+      float lo_r = 0;
+      int level = 0;
+      for (; level < 3 && coc > radii[level]; ++level) lo_r = radii[level];
+      if (level == 3) {
+        out.at<cv::Vec3f>(y, x) = levels[3].at<cv::Vec3f>(y, x);
+        continue;
+      }
+      const float t = (coc - lo_r) / std::max(1e-6f, radii[level] - lo_r);
+      out.at<cv::Vec3f>(y, x) =
+          levels[level].at<cv::Vec3f>(y, x) * (1 - t) + levels[level + 1].at<cv::Vec3f>(y, x) * t;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+cv::Mat apply_post_linear(const cv::Mat& linear, const cv::Mat& depth, const scene::PostProcess& p,
+                          float focus_distance) {
+  CV_Assert(linear.type() == CV_32FC3);
+  cv::Mat img =
+      p.lens_blur > 0 ? lens_blur(linear, depth, p.lens_blur, focus_distance) : linear.clone();
+  // Exposure and white balance are one gain per channel. Temperature tilts red against blue,
+  // normalised so the luminance of grey stays put.
+  const float k = 0.3f * p.temperature / 100.0f;
+  cv::Vec3f gain(1 + k, 1, 1 - k);
+  gain /= luminance(gain);
+  gain *= std::exp2(p.exposure_ev);
+  img.forEach<cv::Vec3f>([&](cv::Vec3f& c, const int*) { c = c.mul(gain); });
+  if (p.bloom > 0) {
+    // Glow from what exceeds the threshold, blurred at quarter resolution for speed.
+    cv::Mat bright;
+    cv::max(img - cv::Scalar::all(p.bloom_threshold), cv::Scalar::all(0), bright);
+    cv::Mat small, glow;
+    cv::resize(bright, small, cv::Size(std::max(1, img.cols / 4), std::max(1, img.rows / 4)), 0, 0,
+               cv::INTER_AREA);
+    const double sigma = std::max(1.0, 0.01 * std::hypot(small.cols, small.rows));
+    cv::resize(blur(small, sigma), glow, img.size(), 0, 0, cv::INTER_LINEAR);
+    img += glow * (4.0 * p.bloom);
+  }
+  const float contrast = 1.0f + p.contrast / 100.0f;
+  const float saturation = 1.0f + p.saturation / 100.0f;
+  const float cx = 0.5f * img.cols, cy = 0.5f * img.rows;
+  const float corner = std::hypot(cx, cy);
+  img.forEach<cv::Vec3f>([&](cv::Vec3f& c, const int* pos) {
+    if (contrast != 1.0f) {
+      // Power curve about mid grey: steeper above and below it for contrast > 0.
+      for (int i = 0; i < 3; ++i)
+        c[i] = c[i] > 0 ? kMidGrey * std::pow(c[i] / kMidGrey, contrast) : 0.0f;
+    }
+    if (saturation != 1.0f) {
+      const float l = luminance(c);
+      for (int i = 0; i < 3; ++i) c[i] = std::max(0.0f, l + (c[i] - l) * saturation);
+    }
+    if (p.vignette > 0) {
+      // 1 in the middle, falling smoothly to 1 − vignette in the corners.
+      const float r = std::hypot(pos[1] + 0.5f - cx, pos[0] + 0.5f - cy) / corner;
+      const float t = std::clamp((r - 0.3f) / 0.7f, 0.0f, 1.0f);
+      c *= 1.0f - p.vignette * t * t * (3 - 2 * t);
+    }
+  });
+  return img;
+}
+
+cv::Mat encode_srgb(const cv::Mat& linear) {
+  cv::Mat out(linear.size(), CV_8UC3);
+  // A table over 4096 steps of [0, 1] keeps encoding cheap for 1280×720 frames.
+  static const std::array<std::uint8_t, 4097> table = [] {
+    std::array<std::uint8_t, 4097> t{};
+    for (int i = 0; i <= 4096; ++i) {
+      t[i] = static_cast<std::uint8_t>(std::lround(255.0f * linear_to_srgb(i / 4096.0f)));
+    }
+    return t;
+  }();
+  for (int y = 0; y < linear.rows; ++y) {
+    const cv::Vec3f* in = linear.ptr<cv::Vec3f>(y);
+    cv::Vec3b* o = out.ptr<cv::Vec3b>(y);
+    for (int x = 0; x < linear.cols; ++x) {
+      for (int i = 0; i < 3; ++i) {
+        const float c = std::clamp(in[x][i], 0.0f, 1.0f);
+        o[x][i] = table[static_cast<int>(c * 4096.0f + 0.5f)];
+      }
+    }
+  }
+  return out;
+}
+
+cv::Mat apply_post(const cv::Mat& linear, const cv::Mat& depth, const scene::PostProcess& p,
+                   float focus_distance, std::uint64_t seed) {
+  cv::Mat out = encode_srgb(apply_post_linear(linear, depth, p, focus_distance));
+  if (p.film_grain > 0) {
+    // Grain in display space, strongest in the mid-tones, seeded per pixel.
+    const float amount = 24.0f * p.film_grain;
+    out.forEach<cv::Vec3b>([&](cv::Vec3b& c, const int* pos) {
+      RandomStream rng(seed, {"grain", static_cast<std::uint64_t>(pos[0]) * out.cols + pos[1]});
+      const float n = static_cast<float>(rng.normal(0.0, 1.0));
+      const float l = (c[0] + c[1] + c[2]) / (3.0f * 255.0f);
+      const float g = amount * n * (0.4f + 2.4f * l * (1 - l));
+      for (int i = 0; i < 3; ++i) c[i] = cv::saturate_cast<std::uint8_t>(c[i] + g);
+    });
+  }
+  return out;
+}
+
+}  // namespace wheelpose::render

@@ -1,0 +1,536 @@
+#include "render/renderer.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+
+#include "core/error.h"
+#include "core/random.h"
+#include "render/post.h"
+
+namespace wheelpose::render {
+
+struct Renderer::Geometry {
+  bool present = false;
+  std::vector<Eigen::Vector3f> normals;  // world space; empty → geometric normal
+  std::vector<Eigen::Vector2f> uvs;
+  std::vector<Eigen::Vector3i> triangles;
+  int material = 0;
+  std::uint16_t instance_id = 0;
+  std::uint16_t semantic_id = 0;
+};
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr float kPi = std::numbers::pi_v<float>;
+constexpr int kTile = 8;
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// Orthonormal basis with w as its third axis.
+void basis(const Eigen::Vector3f& w, Eigen::Vector3f& u, Eigen::Vector3f& v) {
+  const Eigen::Vector3f a =
+      std::abs(w.x()) > 0.9f ? Eigen::Vector3f(0, 1, 0) : Eigen::Vector3f(1, 0, 0);
+  u = a.cross(w).normalized();
+  v = w.cross(u);
+}
+
+void set_ray(RTCRay8& r, int k, const Eigen::Vector3f& o, const Eigen::Vector3f& d, float tfar) {
+  r.org_x[k] = o.x();
+  r.org_y[k] = o.y();
+  r.org_z[k] = o.z();
+  r.dir_x[k] = d.x();
+  r.dir_y[k] = d.y();
+  r.dir_z[k] = d.z();
+  r.tnear[k] = 0.0f;
+  r.tfar[k] = tfar;
+  r.time[k] = 0.0f;
+  r.mask[k] = 0xFFFFFFFFu;
+  r.id[k] = static_cast<unsigned>(k);
+  r.flags[k] = 0;
+}
+
+// Everything phase 2 (shading) needs about one primary ray.
+struct PrimarySample {
+  Eigen::Vector3f origin, dir;
+  float px = 0, py = 0;  // film position (pixels) for the background
+};
+
+}  // namespace
+
+Renderer::Renderer(const scene::Scene& scene) : scene_(scene) {
+  const auto start = Clock::now();
+  // Textures first: a bad image fails before any Embree work.
+  for (std::size_t i = 0; i < scene_.materials.size(); ++i) {
+    const auto& t = scene_.materials[i].texture;
+    material_textures_.emplace_back(t, scene::resolve_path(scene_, t.path),
+                                    "/materials/" + std::to_string(i) + "/texture/path");
+  }
+  background_texture_ = TextureSampler(scene_.background.texture,
+                                       scene::resolve_path(scene_, scene_.background.texture.path),
+                                       "/background/texture/path");
+  if (!scene_.background.image.empty()) {
+    background_image_ = load_linear_image(scene::resolve_path(scene_, scene_.background.image),
+                                          "/background/image");
+  }
+  if (scene_.environment && !scene_.environment->path.empty()) {
+    environment_map_ = load_linear_image(scene::resolve_path(scene_, scene_.environment->path),
+                                         "/environment/path");
+  }
+  float total = 0;
+  for (std::size_t i = 0; i < scene_.point_lights.size(); ++i) {
+    const auto& l = scene_.point_lights[i];
+    const float power = l.intensity * l.color.sum() / 3.0f;
+    if (!l.on || power <= 0) continue;
+    lights_on_.push_back(static_cast<int>(i));
+    total += power;
+    light_cdf_.push_back(total);
+  }
+  for (float& c : light_cdf_) c /= total;
+
+  device_ = rtcNewDevice(nullptr);
+  if (!device_) throw Error("embree: cannot create a device", ErrorKind::kFailure);
+  rtc_scene_ = rtcNewScene(device_);
+  rtcSetSceneBuildQuality(rtc_scene_, RTC_BUILD_QUALITY_LOW);
+  geometries_.resize(scene_.instances.size());
+  for (std::size_t i = 0; i < scene_.instances.size(); ++i) {
+    const auto& in = scene_.instances[i];
+    WHEELPOSE_CHECK(in.mesh >= 0 && in.mesh < static_cast<int>(scene_.meshes.size()));
+    WHEELPOSE_CHECK(in.material >= 0 && in.material < static_cast<int>(scene_.materials.size()));
+    const auto& mesh = scene_.meshes[in.mesh];
+    if (mesh.triangles.empty()) continue;
+    Geometry& g = geometries_[i];
+    g.present = true;
+    g.material = in.material;
+    g.instance_id = in.instance_id;
+    g.semantic_id = in.semantic_id;
+    g.triangles = mesh.triangles;
+    g.uvs = mesh.uvs;
+    const Eigen::Affine3f xf(in.transform);
+    const Eigen::Matrix3f normal_matrix = xf.linear().inverse().transpose();
+    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                          RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                          mesh.positions.size()));
+    for (std::size_t k = 0; k < mesh.positions.size(); ++k) {
+      const Eigen::Vector3f p = xf * mesh.positions[k];
+      v[3 * k] = p.x();
+      v[3 * k + 1] = p.y();
+      v[3 * k + 2] = p.z();
+    }
+    auto* idx = static_cast<unsigned*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                3 * sizeof(unsigned), mesh.triangles.size()));
+    for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
+      for (int c = 0; c < 3; ++c) idx[3 * k + c] = static_cast<unsigned>(mesh.triangles[k][c]);
+    }
+    g.normals.reserve(mesh.normals.size());
+    for (const auto& n : mesh.normals) g.normals.push_back((normal_matrix * n).normalized());
+    rtcCommitGeometry(geom);
+    rtcAttachGeometryByID(rtc_scene_, geom, static_cast<unsigned>(i));
+    rtcReleaseGeometry(geom);
+  }
+  rtcCommitScene(rtc_scene_);
+  if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) {
+    throw Error("embree: building the scene failed", ErrorKind::kFailure);
+  }
+  build_ms_ = ms_since(start);
+}
+
+Renderer::~Renderer() {
+  if (rtc_scene_) rtcReleaseScene(rtc_scene_);
+  if (device_) rtcReleaseDevice(device_);
+}
+
+Eigen::Vector3f Renderer::environment(const Eigen::Vector3f& d) const {
+  const auto& e = *scene_.environment;
+  if (environment_map_.empty()) return e.color * e.intensity;
+  const float u = 0.5f + std::atan2(d.x(), -d.z()) / (2 * kPi) + e.rotation_deg / 360.0f;
+  const float v = std::acos(std::clamp(d.y(), -1.0f, 1.0f)) / kPi;
+  return sample_bilinear(environment_map_, u, std::min(v, 0.9999f)) * e.intensity;
+}
+
+Eigen::Vector3f Renderer::background(float px, float py, const Eigen::Vector3f& dir) const {
+  const float w = static_cast<float>(scene_.camera.width);
+  const float h = static_cast<float>(scene_.camera.height);
+  if (!background_image_.empty()) {
+    // Cover the frame keeping the image's aspect ratio (centre crop, never stretched).
+    const float iw = static_cast<float>(background_image_.cols);
+    const float ih = static_cast<float>(background_image_.rows);
+    const float s = std::max(w / iw, h / ih);
+    const float u = ((px - 0.5f * w) / s + 0.5f * iw) / iw;
+    const float v = ((py - 0.5f * h) / s + 0.5f * ih) / ih;
+    return sample_bilinear(background_image_, std::clamp(u, 0.0f, 0.9999f),
+                           std::clamp(v, 0.0f, 0.9999f));
+  }
+  if (background_texture_.active()) {
+    // Square cells in screen space; an image texture tiles and tints with the colour.
+    const Eigen::Vector3f t = background_texture_.at(px / h, 1.0f - py / h);
+    return scene_.background.texture.kind == scene::TextureKind::kImage
+               ? Eigen::Vector3f(scene_.background.color.cwiseProduct(t))
+               : t;
+  }
+  if (!environment_map_.empty()) return environment(dir);
+  return scene_.background.color;
+}
+
+FrameBuffers Renderer::render(const RenderOptions& options) {
+  const int w = scene_.camera.width, h = scene_.camera.height;
+  if (options.spp < 1) throw Error("samples per pixel must be at least 1");
+  FrameBuffers out;
+  out.linear = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
+  out.depth = cv::Mat(h, w, CV_32F, cv::Scalar::all(0));
+  out.normals = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
+  out.instance = cv::Mat(h, w, CV_16U, cv::Scalar::all(0));
+  out.semantic = cv::Mat(h, w, CV_16U, cv::Scalar::all(0));
+  const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
+  std::atomic<long long> trace_ns{0}, shade_ns{0}, rays{0};
+  const auto start = Clock::now();
+  tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y),
+                    [&](const tbb::blocked_range<int>& r) {
+                      double t = 0, s = 0;
+                      long long n = 0;
+                      for (int i = r.begin(); i < r.end(); ++i)
+                        render_tile(i % tiles_x, i / tiles_x, options, out, t, s, n);
+                      trace_ns += static_cast<long long>(t);
+                      shade_ns += static_cast<long long>(s);
+                      rays += n;
+                    });
+  const double wall = ms_since(start);
+  const double busy = std::max(1.0, static_cast<double>(trace_ns + shade_ns));
+  timings_.trace_ms = wall * static_cast<double>(trace_ns) / busy;
+  timings_.shade_ms = wall * static_cast<double>(shade_ns) / busy;
+  timings_.rays = rays;
+  const auto post_start = Clock::now();
+  out.rgb = options.post ? apply_post(out.linear, out.depth, scene_.post,
+                                      scene_.camera.focus_distance, scene_.seed)
+                         : encode_srgb(out.linear);
+  timings_.post_ms = ms_since(post_start);
+  return out;
+}
+
+void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options, FrameBuffers& out,
+                           double& trace_ns, double& shade_ns, long long& ray_count) const {
+  const auto& cam = scene_.camera;
+  const int w = cam.width, h = cam.height;
+  const float tan_half = std::tan(0.5f * cam.effective_vfov());
+  const float aspect = static_cast<float>(w) / static_cast<float>(h);
+  const Eigen::Matrix3f rot = cam.orientation.normalized().toRotationMatrix();
+  const Eigen::Vector3f forward = rot * Eigen::Vector3f(0, 0, -1);
+  const bool lens = cam.aperture_radius > 0.0f;
+  const auto& sun = scene_.sun;
+  const Eigen::Vector3f sun_dir = scene::sun_direction(sun);
+  // The solar model puts the sun below the horizon at night: then it gives no light.
+  const bool sun_on = sun.enabled && sun.intensity > 0 && !(sun.solar && sun_dir.y() <= 0.0f);
+  const float sun_cos_max = std::cos(sun.angular_radius_deg * kPi / 180.0f);
+  Eigen::Vector3f sun_u, sun_v;
+  basis(sun_dir, sun_u, sun_v);
+  const bool env_on = scene_.environment.has_value();
+
+  constexpr int kPackets = kTile * kTile / 8;  // 4×2-pixel packets per tile
+  std::array<RTCRayHit8, kPackets> hits;
+  std::array<std::array<int, 8>, kPackets> valid;
+  std::array<PrimarySample, kTile * kTile> prim;
+  std::array<Eigen::Vector3f, kTile * kTile> accum;
+  accum.fill(Eigen::Vector3f::Zero());
+  std::vector<RandomStream> streams;
+  streams.reserve(kTile * kTile);
+
+  auto pixel_of = [&](int p, int k, int& x, int& y) {
+    x = tile_x * kTile + (p % 2) * 4 + k % 4;
+    y = tile_y * kTile + (p / 2) * 2 + k / 4;
+  };
+  RTCIntersectContext coherent;
+  rtcInitIntersectContext(&coherent);
+  coherent.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  RTCIntersectContext incoherent;
+  rtcInitIntersectContext(&incoherent);
+
+  // Camera ray through film position (fx, fy) in pixels and lens sample (lu, lv) in [0, 1)².
+  auto camera_ray = [&](float fx, float fy, float lu, float lv, Eigen::Vector3f& o,
+                        Eigen::Vector3f& d) {
+    const Eigen::Vector3f dc((2.0f * fx / w - 1.0f) * tan_half * aspect,
+                             (1.0f - 2.0f * fy / h) * tan_half, -1.0f);
+    if (!lens) {
+      o = cam.position;
+      d = (rot * dc).normalized();
+      return;
+    }
+    const float r = cam.aperture_radius * std::sqrt(lu), phi = 2 * kPi * lv;
+    const Eigen::Vector3f lens_point(r * std::cos(phi), r * std::sin(phi), 0.0f);
+    const Eigen::Vector3f focus = dc * cam.focus_distance;  // dc.z = −1: on the focal plane
+    o = cam.position + rot * lens_point;
+    d = (rot * (focus - lens_point)).normalized();
+  };
+
+  auto trace_primary = [&]() {
+    const auto t0 = Clock::now();
+    for (int p = 0; p < kPackets; ++p)
+      rtcIntersect8(valid[p].data(), rtc_scene_, &coherent, &hits[p]);
+    trace_ns += std::chrono::duration<double, std::nano>(Clock::now() - t0).count();
+  };
+
+  // Ground truth from pixel-centre pinhole rays (the sample-0 rays when there is no lens).
+  auto store_ground_truth = [&]() {
+    for (int p = 0; p < kPackets; ++p) {
+      for (int k = 0; k < 8; ++k) {
+        if (!valid[p][k]) continue;
+        int x, y;
+        pixel_of(p, k, x, y);
+        const RTCRayHit8& rh = hits[p];
+        if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) continue;
+        const Geometry& g = geometries_[rh.hit.geomID[k]];
+        const Eigen::Vector3f d(rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]);
+        out.depth.at<float>(y, x) = rh.ray.tfar[k] * d.dot(forward);
+        out.instance.at<std::uint16_t>(y, x) = g.instance_id;
+        out.semantic.at<std::uint16_t>(y, x) = g.semantic_id;
+        Eigen::Vector3f n =
+            Eigen::Vector3f(rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]).normalized();
+        if (!g.normals.empty()) {
+          const auto& tri = g.triangles[rh.hit.primID[k]];
+          const float u = rh.hit.u[k], v = rh.hit.v[k];
+          const Eigen::Vector3f s =
+              (1 - u - v) * g.normals[tri[0]] + u * g.normals[tri[1]] + v * g.normals[tri[2]];
+          if (s.squaredNorm() > 1e-12f) n = s.normalized();
+        }
+        if (n.dot(d) > 0) n = -n;
+        const Eigen::Vector3f nc = rot.transpose() * n;
+        out.normals.at<cv::Vec3f>(y, x) = cv::Vec3f(nc.x(), nc.y(), nc.z());
+      }
+    }
+  };
+
+  for (int p = 0; p < kPackets; ++p) {
+    for (int k = 0; k < 8; ++k) {
+      int x, y;
+      pixel_of(p, k, x, y);
+      valid[p][k] = (x < w && y < h) ? -1 : 0;
+    }
+  }
+  int active = 0;
+  for (const auto& v : valid) active += static_cast<int>(std::count(v.begin(), v.end(), -1));
+
+  if (lens) {
+    for (int p = 0; p < kPackets; ++p) {
+      for (int k = 0; k < 8; ++k) {
+        int x, y;
+        pixel_of(p, k, x, y);
+        const Eigen::Vector3f dc((2.0f * (x + 0.5f) / w - 1.0f) * tan_half * aspect,
+                                 (1.0f - 2.0f * (y + 0.5f) / h) * tan_half, -1.0f);
+        set_ray(hits[p].ray, k, cam.position, (rot * dc).normalized(), kInf);
+        hits[p].hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+      }
+    }
+    trace_primary();
+    ray_count += active;
+    store_ground_truth();
+  }
+
+  for (int s = 0; s < options.spp; ++s) {
+    const auto shade_start = Clock::now();
+    streams.clear();
+    for (int p = 0; p < kPackets; ++p) {
+      for (int k = 0; k < 8; ++k) {
+        int x, y;
+        pixel_of(p, k, x, y);
+        streams.emplace_back(scene_.seed, std::initializer_list<StreamKey>{
+                                              "pixel", static_cast<std::uint64_t>(y) * w + x, s});
+        RandomStream& rng = streams.back();
+        // Sample 0 goes through the pixel centre; later ones are jittered over the pixel.
+        const float jx = s == 0 ? 0.5f : static_cast<float>(rng.uniform01());
+        const float jy = s == 0 ? 0.5f : static_cast<float>(rng.uniform01());
+        const float lu = lens ? static_cast<float>(rng.uniform01()) : 0.0f;
+        const float lv = lens ? static_cast<float>(rng.uniform01()) : 0.0f;
+        PrimarySample& ps = prim[p * 8 + k];
+        ps.px = x + jx;
+        ps.py = y + jy;
+        camera_ray(ps.px, ps.py, lu, lv, ps.origin, ps.dir);
+        set_ray(hits[p].ray, k, ps.origin, ps.dir, kInf);
+        hits[p].hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+      }
+    }
+    shade_ns += std::chrono::duration<double, std::nano>(Clock::now() - shade_start).count();
+    trace_primary();
+    ray_count += active;
+    const auto shade_t0 = Clock::now();
+    if (s == 0 && !lens) store_ground_truth();
+
+    for (int p = 0; p < kPackets; ++p) {
+      // Shadow packets: 0 = sun, 1 = one point light, 2 = environment.
+      alignas(32) std::array<RTCRay8, 3> shadow;
+      std::array<std::array<int, 8>, 3> shadow_valid{};
+      std::array<std::array<Eigen::Vector3f, 8>, 3> contrib;
+      for (int k = 0; k < 8; ++k) {
+        if (!valid[p][k]) continue;
+        const int li = p * 8 + k;
+        const PrimarySample& ps = prim[li];
+        const RTCRayHit8& rh = hits[p];
+        if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
+          accum[li] += background(ps.px, ps.py, ps.dir);
+          continue;
+        }
+        RandomStream& rng = streams[li];
+        const Geometry& g = geometries_[rh.hit.geomID[k]];
+        const auto& tri = g.triangles[rh.hit.primID[k]];
+        const float u = rh.hit.u[k], v = rh.hit.v[k], bw = 1 - u - v;
+        const Eigen::Vector3f pos = ps.origin + rh.ray.tfar[k] * ps.dir;
+        Eigen::Vector3f ng =
+            Eigen::Vector3f(rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]).normalized();
+        if (ng.dot(ps.dir) > 0) ng = -ng;
+        Eigen::Vector3f n = ng;
+        if (!g.normals.empty()) {
+          const Eigen::Vector3f sn =
+              bw * g.normals[tri[0]] + u * g.normals[tri[1]] + v * g.normals[tri[2]];
+          if (sn.squaredNorm() > 1e-12f) n = sn.normalized();
+          if (n.dot(ps.dir) > 0) n = -n;
+        }
+        Eigen::Vector2f uv = Eigen::Vector2f::Zero();
+        if (!g.uvs.empty()) uv = bw * g.uvs[tri[0]] + u * g.uvs[tri[1]] + v * g.uvs[tri[2]];
+        const scene::Material& m = scene_.materials[g.material];
+        const Eigen::Vector3f albedo =
+            rotate_hue(m.diffuse.cwiseProduct(material_textures_[g.material].at(uv.x(), uv.y())),
+                       m.hue_offset_deg)
+                .cwiseMin(1.0f);
+        const float eps = 1e-4f * (1.0f + pos.cwiseAbs().maxCoeff());
+        const Eigen::Vector3f origin = pos + eps * ng;
+        auto brdf_cos = [&](const Eigen::Vector3f& l, float cos_l) -> Eigen::Vector3f {
+          Eigen::Vector3f f = albedo * cos_l;
+          if (m.specular > 0) {
+            const Eigen::Vector3f hv = (l - ps.dir).normalized();
+            f += Eigen::Vector3f::Constant(
+                m.specular * std::pow(std::max(0.0f, n.dot(hv)), m.shininess) * cos_l);
+          }
+          return f;
+        };
+        if (sun_on) {
+          // Uniform direction in the sun's cone (soft shadows).
+          const float ct = 1.0f - static_cast<float>(rng.uniform01()) * (1.0f - sun_cos_max);
+          const float st = std::sqrt(std::max(0.0f, 1 - ct * ct)),
+                      ph = 2 * kPi * static_cast<float>(rng.uniform01());
+          const Eigen::Vector3f l =
+              (ct * sun_dir + st * std::cos(ph) * sun_u + st * std::sin(ph) * sun_v).normalized();
+          const float c = n.dot(l);
+          if (c > 0 && ng.dot(l) > 0) {
+            set_ray(shadow[0], k, origin, l, kInf);
+            shadow_valid[0][k] = -1;
+            contrib[0][k] = sun.color.cwiseProduct(brdf_cos(l, c)) * sun.intensity;
+          }
+        }
+        if (!lights_on_.empty()) {
+          // One light per sample, chosen in proportion to its power.
+          const float pick = static_cast<float>(rng.uniform01());
+          const int j = static_cast<int>(
+              std::lower_bound(light_cdf_.begin(), light_cdf_.end(), pick) - light_cdf_.begin());
+          const int jj = std::min(j, static_cast<int>(lights_on_.size()) - 1);
+          const float prob = light_cdf_[jj] - (jj > 0 ? light_cdf_[jj - 1] : 0.0f);
+          const auto& light = scene_.point_lights[lights_on_[jj]];
+          const float z = 1.0f - 2.0f * static_cast<float>(rng.uniform01());
+          const float ph = 2 * kPi * static_cast<float>(rng.uniform01());
+          const float rr = std::sqrt(std::max(0.0f, 1 - z * z));
+          const Eigen::Vector3f q =
+              light.position +
+              light.radius * Eigen::Vector3f(rr * std::cos(ph), rr * std::sin(ph), z);
+          const Eigen::Vector3f to = q - origin;
+          const float dist = to.norm();
+          if (dist > 1e-6f) {
+            const Eigen::Vector3f l = to / dist;
+            const float c = n.dot(l);
+            if (c > 0 && ng.dot(l) > 0 && prob > 0) {
+              set_ray(shadow[1], k, origin, l, dist);
+              shadow_valid[1][k] = -1;
+              contrib[1][k] = light.color.cwiseProduct(brdf_cos(l, c)) *
+                              (light.intensity / (std::max(dist * dist, 1e-4f) * prob));
+            }
+          }
+        }
+        if (env_on) {
+          // Cosine-weighted direction: the estimator is albedo × L_env.
+          const float r1 = static_cast<float>(rng.uniform01()),
+                      r2 = static_cast<float>(rng.uniform01());
+          Eigen::Vector3f bu, bv;
+          basis(n, bu, bv);
+          const float rad = std::sqrt(r1), ph = 2 * kPi * r2;
+          const Eigen::Vector3f l = (rad * std::cos(ph) * bu + rad * std::sin(ph) * bv +
+                                     std::sqrt(std::max(0.0f, 1 - r1)) * n)
+                                        .normalized();
+          if (ng.dot(l) > 0) {
+            set_ray(shadow[2], k, origin, l, kInf);
+            shadow_valid[2][k] = -1;
+            contrib[2][k] = albedo.cwiseProduct(environment(l));
+          }
+        }
+      }
+      for (int q = 0; q < 3; ++q) {
+        int n = 0;
+        for (int k = 0; k < 8; ++k) n += shadow_valid[q][k] != 0;
+        if (n == 0) continue;
+        rtcOccluded8(shadow_valid[q].data(), rtc_scene_, &incoherent, &shadow[q]);
+        ray_count += n;
+        for (int k = 0; k < 8; ++k) {
+          // Embree sets tfar to −inf for occluded rays.
+          if (shadow_valid[q][k] && shadow[q].tfar[k] >= 0.0f) accum[p * 8 + k] += contrib[q][k];
+        }
+      }
+    }
+    shade_ns += std::chrono::duration<double, std::nano>(Clock::now() - shade_t0).count();
+  }
+  const float inv = 1.0f / static_cast<float>(options.spp);
+  for (int p = 0; p < kPackets; ++p) {
+    for (int k = 0; k < 8; ++k) {
+      if (!valid[p][k]) continue;
+      int x, y;
+      pixel_of(p, k, x, y);
+      const Eigen::Vector3f c = accum[p * 8 + k] * inv;
+      out.linear.at<cv::Vec3f>(y, x) = cv::Vec3f(c.x(), c.y(), c.z());
+    }
+  }
+}
+
+RayQuery Renderer::cast(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction,
+                        float max_distance) const {
+  RayQuery q;
+  const float len = direction.norm();
+  if (len <= 0) return q;
+  const Eigen::Vector3f d = direction / len;
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh{};
+  rh.ray.org_x = origin.x();
+  rh.ray.org_y = origin.y();
+  rh.ray.org_z = origin.z();
+  rh.ray.dir_x = d.x();
+  rh.ray.dir_y = d.y();
+  rh.ray.dir_z = d.z();
+  rh.ray.tnear = 0.0f;
+  rh.ray.tfar = max_distance;
+  rh.ray.mask = 0xFFFFFFFFu;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(rtc_scene_, &ctx, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return q;
+  q.hit = true;
+  q.distance = rh.ray.tfar;
+  q.position = origin + rh.ray.tfar * d;
+  q.instance_index = static_cast<int>(rh.hit.geomID);
+  q.instance_id = geometries_[rh.hit.geomID].instance_id;
+  q.semantic_id = geometries_[rh.hit.geomID].semantic_id;
+  return q;
+}
+
+RayQuery Renderer::first_hit_toward(const Eigen::Vector3f& point) const {
+  return cast(scene_.camera.position, point - scene_.camera.position);
+}
+
+}  // namespace wheelpose::render

@@ -1,0 +1,212 @@
+#include "render/renderer.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+
+#include "render/test_scenes.h"
+
+namespace wheelpose::render {
+namespace {
+
+using testing::empty_scene;
+using testing::material;
+using testing::place;
+
+// A wall facing the camera at z = −distance, filling the view.
+scene::Scene wall_scene(float distance) {
+  scene::Scene s = empty_scene();
+  s.meshes.push_back(scene::make_box({20, 20, 0.5f}, 1));
+  s.materials.push_back(material({1, 1, 1}));
+  s.instances.push_back(place(0, 0, {0, 0, -distance - 0.5f}, 7, 3));
+  return s;
+}
+
+TEST(Renderer, DepthOfAPlaneIsItsDistanceEverywhere) {
+  Renderer r(wall_scene(3.0f));
+  const FrameBuffers f = r.render();
+  for (int y = 0; y < f.depth.rows; ++y) {
+    for (int x = 0; x < f.depth.cols; ++x) {
+      ASSERT_NEAR(f.depth.at<float>(y, x), 3.0f, 1e-3f) << x << "," << y;
+      ASSERT_EQ(f.instance.at<std::uint16_t>(y, x), 7);
+      ASSERT_EQ(f.semantic.at<std::uint16_t>(y, x), 3);
+      const cv::Vec3f n = f.normals.at<cv::Vec3f>(y, x);
+      ASSERT_NEAR(n[2], 1.0f, 1e-5f);  // facing the camera: +Z in camera space
+    }
+  }
+}
+
+TEST(Renderer, DepthOfASphereMatchesTheAnalyticIntersection) {
+  scene::Scene s = empty_scene(64, 48);
+  s.camera.position = Eigen::Vector3f(0.3f, -0.2f, 1.0f);
+  s.meshes.push_back(scene::make_sphere(1.0f, 128));
+  s.materials.push_back(material({1, 1, 1}));
+  const Eigen::Vector3f c(0, 0, -4);
+  s.instances.push_back(place(0, 0, c, 1, 1));
+  Renderer r(s);
+  const FrameBuffers f = r.render();
+  const float t = std::tan(0.5f * s.camera.effective_vfov());
+  int checked = 0;
+  for (int y = 0; y < 48; ++y) {
+    for (int x = 0; x < 64; ++x) {
+      const Eigen::Vector3f d = Eigen::Vector3f((2 * (x + 0.5f) / 64 - 1) * t * 64 / 48,
+                                                (1 - 2 * (y + 0.5f) / 48) * t, -1)
+                                    .normalized();
+      const Eigen::Vector3f oc = s.camera.position - c;
+      const float b = oc.dot(d), disc = b * b - (oc.squaredNorm() - 1.0f);
+      if (disc <= 0) {
+        EXPECT_EQ(f.instance.at<std::uint16_t>(y, x), 0);
+        continue;
+      }
+      const float hit = -b - std::sqrt(disc);
+      const Eigen::Vector3f n = (s.camera.position + hit * d - c).normalized();
+      if (-n.dot(d) < 0.3f) continue;  // grazing: the tessellation differs from the sphere
+      EXPECT_NEAR(f.depth.at<float>(y, x), hit * -d.z(), 1e-3f) << x << "," << y;
+      EXPECT_EQ(f.instance.at<std::uint16_t>(y, x), 1);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 200);
+}
+
+TEST(Renderer, IdsAndNormalsPerRegion) {
+  scene::Scene s = empty_scene();
+  s.meshes.push_back(scene::make_box({0.5f, 0.5f, 0.5f}, 1));
+  s.materials.push_back(material({1, 1, 1}));
+  s.instances.push_back(place(0, 0, {-1.0f, 0, -4}, 11, 1));
+  s.instances.push_back(place(0, 0, {1.0f, 0, -4}, 12, 2));
+  Renderer r(s);
+  const FrameBuffers f = r.render();
+  // Left box around x ≈ 32 − 1/(4·tan 22.5°)·24 ≈ 17, right box ≈ 47; corners see nothing.
+  EXPECT_EQ(f.instance.at<std::uint16_t>(24, 17), 11);
+  EXPECT_EQ(f.semantic.at<std::uint16_t>(24, 17), 1);
+  EXPECT_EQ(f.instance.at<std::uint16_t>(24, 47), 12);
+  EXPECT_EQ(f.semantic.at<std::uint16_t>(24, 47), 2);
+  EXPECT_EQ(f.instance.at<std::uint16_t>(24, 32), 0);
+  EXPECT_EQ(f.instance.at<std::uint16_t>(0, 0), 0);
+  EXPECT_EQ(f.depth.at<float>(0, 0), 0.0f);
+  int hits = 0;
+  for (int y = 0; y < 48; ++y) {
+    for (int x = 0; x < 64; ++x) {
+      const cv::Vec3f n = f.normals.at<cv::Vec3f>(y, x);
+      if (f.instance.at<std::uint16_t>(y, x) == 0) {
+        EXPECT_EQ(n.dot(n), 0.0f);
+        continue;
+      }
+      ++hits;
+      EXPECT_NEAR(std::sqrt(n.dot(n)), 1.0f, 1e-5f);
+      // Facing the camera: against the pixel's ray (camera space).
+      const float t = std::tan(0.5f * s.camera.effective_vfov());
+      const cv::Vec3f d((2 * (x + 0.5f) / 64 - 1) * t * 64 / 48, (1 - 2 * (y + 0.5f) / 48) * t, -1);
+      EXPECT_LT(n.dot(d), 0.0f);
+    }
+  }
+  EXPECT_GT(hits, 300);
+}
+
+TEST(Renderer, SunOnAWhiteWallGivesItsIntensity) {
+  scene::Scene s = wall_scene(2.0f);
+  s.sun.enabled = true;
+  s.sun.direction = Eigen::Vector3f(0, 0, 1);
+  s.sun.color = Eigen::Vector3f(1, 1, 1);
+  s.sun.intensity = 0.5f;
+  s.sun.angular_radius_deg = 0;
+  s.materials[0].diffuse = Eigen::Vector3f(0.8f, 0.4f, 0.2f);
+  Renderer r(s);
+  const cv::Vec3f c = r.render().linear.at<cv::Vec3f>(24, 32);
+  EXPECT_NEAR(c[0], 0.4f, 1e-5f);
+  EXPECT_NEAR(c[1], 0.2f, 1e-5f);
+  EXPECT_NEAR(c[2], 0.1f, 1e-5f);
+}
+
+TEST(Renderer, PointLightFallsOffWithTheSquareOfDistance) {
+  scene::Scene s = wall_scene(2.0f);
+  s.point_lights.push_back({{0, 0, -1}, {1, 1, 1}, 0.5f, 0.0f, true});  // 1 m from the wall
+  s.point_lights.push_back({{0, 0, 0}, {1, 1, 1}, 50.0f, 0.0f, false});
+  Renderer r(s);
+  const FrameBuffers f = r.render();
+  EXPECT_NEAR(f.linear.at<cv::Vec3f>(24, 32)[0], 0.5f, 0.01f);  // I / d² · cos ≈ 0.5 at the centre
+  // Toward the edge the light is farther and more oblique: darker.
+  EXPECT_LT(f.linear.at<cv::Vec3f>(24, 2)[0], 0.35f);
+}
+
+TEST(Renderer, ABoxBetweenSunAndWallCastsAShadow) {
+  scene::Scene s = wall_scene(3.0f);
+  s.sun.enabled = true;
+  s.sun.direction = Eigen::Vector3f(0, 0, 1);
+  s.sun.angular_radius_deg = 0;
+  s.sun.color = Eigen::Vector3f::Ones();
+  s.meshes.push_back(scene::make_box({0.2f, 0.2f, 0.2f}, 1));
+  // Behind the camera, between the sun (at +Z) and the wall: invisible but it shadows.
+  s.instances.push_back(place(1, 0, {0, 0, 1}, 9, 9));
+  Renderer r(s);
+  const FrameBuffers f = r.render();
+  EXPECT_EQ(f.instance.at<std::uint16_t>(24, 32), 7);
+  EXPECT_EQ(f.linear.at<cv::Vec3f>(24, 32)[0], 0.0f);
+  EXPECT_NEAR(f.linear.at<cv::Vec3f>(2, 2)[0], 1.0f, 1e-5f);
+}
+
+TEST(Renderer, SolarSunBelowTheHorizonGivesNoLight) {
+  scene::Scene s = wall_scene(2.0f);
+  s.sun.enabled = true;
+  s.sun.solar = scene::SolarPosition{0.0f, 172.0f, 45.0f};  // midnight
+  Renderer r(s);
+  EXPECT_EQ(r.render().linear.at<cv::Vec3f>(24, 32)[1], 0.0f);
+}
+
+TEST(Renderer, SameImageWhateverTheThreadCount) {
+  const scene::Scene s = testing::shadow();
+  FrameBuffers one, two;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = Renderer(s).render({.spp = 3});
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+    two = Renderer(s).render({.spp = 3});
+  }
+  EXPECT_EQ(cv::norm(one.linear, two.linear, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(one.rgb, two.rgb, cv::NORM_INF), 0.0);
+  // And a different seed gives a different (noisy) image.
+  scene::Scene other = s;
+  other.seed = 99;
+  EXPECT_GT(cv::norm(Renderer(other).render({.spp = 3}).linear, one.linear, cv::NORM_INF), 0.0);
+}
+
+TEST(Renderer, GroundTruthDoesNotDependOnSamplesOrLens) {
+  scene::Scene s = testing::depth_of_field();
+  const FrameBuffers a = Renderer(s).render({.spp = 1});
+  const FrameBuffers b = Renderer(s).render({.spp = 4});
+  s.camera.aperture_radius = 0;
+  const FrameBuffers c = Renderer(s).render({.spp = 1});
+  EXPECT_EQ(cv::norm(a.depth, b.depth, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(a.depth, c.depth, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(a.instance, c.instance, cv::NORM_INF), 0.0);
+}
+
+TEST(Renderer, RayQueryFindsTheFirstHitTowardAPoint) {
+  Renderer r(wall_scene(3.0f));
+  const RayQuery behind = r.first_hit_toward({0.5f, 0.2f, -5.0f});
+  ASSERT_TRUE(behind.hit);
+  const float expected = 3.0f * Eigen::Vector3f(0.5f, 0.2f, -5.0f).norm() / 5.0f;
+  EXPECT_NEAR(behind.distance, expected, 1e-4f);
+  EXPECT_EQ(behind.instance_id, 7);
+  EXPECT_EQ(behind.instance_index, 0);
+  EXPECT_NEAR(behind.position.z(), -3.0f, 1e-4f);
+  const RayQuery in_front = r.first_hit_toward({0, 0, -1});
+  EXPECT_GT(in_front.distance, 1.0f);  // the point is visible: the first hit lies beyond it
+  EXPECT_FALSE(r.cast({0, 0, 0}, {0, 0, 1}).hit);
+  EXPECT_FALSE(r.cast({0, 0, 0}, {0, 0, -1}, 2.0f).hit);
+}
+
+TEST(Renderer, EmptySceneShowsTheBackground) {
+  scene::Scene s = empty_scene(16, 8);
+  s.background.color = {0.5f, 0.25f, 0.0f};
+  const FrameBuffers f = Renderer(s).render({.spp = 2});
+  EXPECT_EQ(f.linear.at<cv::Vec3f>(3, 3), cv::Vec3f(0.5f, 0.25f, 0.0f));
+  EXPECT_EQ(f.rgb.at<cv::Vec3b>(3, 3), cv::Vec3b(188, 137, 0));  // sRGB of 0.5 and 0.25
+}
+
+}  // namespace
+}  // namespace wheelpose::render

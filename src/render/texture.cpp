@@ -1,0 +1,157 @@
+#include "render/texture.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/error.h"
+#include "core/random.h"
+
+namespace wheelpose::render {
+namespace {
+
+constexpr float kTwoPi = 2.0f * std::numbers::pi_v<float>;
+
+// Lattice value in [0, 1) from a seed and integer coordinates (a hash, so noise is a pure
+// function of the texture's seed).
+float lattice(std::uint64_t seed, int x, int y) {
+  const std::uint64_t h = StreamKey::mix(
+      seed ^ StreamKey::mix(static_cast<std::uint32_t>(x) |
+                            (static_cast<std::uint64_t>(static_cast<std::uint32_t>(y)) << 32)));
+  return static_cast<float>(h >> 40) * (1.0f / 16777216.0f);
+}
+
+float smooth(float t) { return t * t * (3.0f - 2.0f * t); }
+
+float value_noise(std::uint64_t seed, float u, float v) {
+  const float fu = std::floor(u), fv = std::floor(v);
+  const int x = static_cast<int>(fu), y = static_cast<int>(fv);
+  const float tx = smooth(u - fu), ty = smooth(v - fv);
+  const float a = lattice(seed, x, y), b = lattice(seed, x + 1, y);
+  const float c = lattice(seed, x, y + 1), d = lattice(seed, x + 1, y + 1);
+  return (a + (b - a) * tx) + ((c + (d - c) * tx) - (a + (b - a) * tx)) * ty;
+}
+
+// Fractal sum of four octaves, in [0, 1].
+float fbm(std::uint64_t seed, float u, float v) {
+  float sum = 0.0f, amp = 0.5f, norm = 0.0f;
+  for (int o = 0; o < 4; ++o) {
+    sum += amp * value_noise(seed + o, u, v);
+    norm += amp;
+    amp *= 0.5f;
+    u *= 2.0f;
+    v *= 2.0f;
+  }
+  return sum / norm;
+}
+
+float fract(float x) { return x - std::floor(x); }
+
+}  // namespace
+
+float srgb_to_linear(float c) {
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+float linear_to_srgb(float c) {
+  c = std::clamp(c, 0.0f, 1.0f);
+  return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+}
+
+cv::Mat load_linear_image(const std::string& path, const std::string& what) {
+  cv::Mat raw = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);
+  if (raw.empty() || raw.cols == 0 || raw.rows == 0) {
+    throw Error(what + ": cannot read image '" + path +
+                "' (missing, empty, truncated or not an image)");
+  }
+  cv::Mat rgb;
+  cv::cvtColor(raw, rgb, cv::COLOR_BGR2RGB);
+  cv::Mat out;
+  if (rgb.depth() == CV_32F) return rgb;
+  const double scale = rgb.depth() == CV_16U ? 1.0 / 65535.0 : 1.0 / 255.0;
+  rgb.convertTo(out, CV_32FC3, scale);
+  // A 256-entry table would only serve 8-bit inputs; textures are decoded once, so keep it simple.
+  out.forEach<cv::Vec3f>([](cv::Vec3f& p, const int*) {
+    for (int k = 0; k < 3; ++k) p[k] = srgb_to_linear(p[k]);
+  });
+  return out;
+}
+
+Eigen::Vector3f sample_bilinear(const cv::Mat& image, float u, float v) {
+  const int w = image.cols, h = image.rows;
+  const float x = fract(u) * w - 0.5f, y = fract(v) * h - 0.5f;
+  const float fx = std::floor(x), fy = std::floor(y);
+  const float tx = x - fx, ty = y - fy;
+  auto px = [&](int i, int j) {
+    i = ((i % w) + w) % w;
+    j = ((j % h) + h) % h;
+    const cv::Vec3f& p = image.at<cv::Vec3f>(j, i);
+    return Eigen::Vector3f(p[0], p[1], p[2]);
+  };
+  const int ix = static_cast<int>(fx), iy = static_cast<int>(fy);
+  return (1 - ty) * ((1 - tx) * px(ix, iy) + tx * px(ix + 1, iy)) +
+         ty * ((1 - tx) * px(ix, iy + 1) + tx * px(ix + 1, iy + 1));
+}
+
+float procedural_pattern(const scene::Texture& t, float u, float v) {
+  using scene::TextureKind;
+  switch (t.kind) {
+    case TextureKind::kChecker:
+      return static_cast<float>(
+          (static_cast<long>(std::floor(u)) + static_cast<long>(std::floor(v))) & 1);
+    case TextureKind::kStripes:
+      // Soft-edged stripes across u.
+      return std::clamp(0.5f + 2.0f * std::sin(kTwoPi * u), 0.0f, 1.0f);
+    case TextureKind::kNoise:
+      return fbm(t.seed, u, v);
+    case TextureKind::kFabric: {
+      // Plain weave: alternate cells carry warp or weft threads, each with a round profile.
+      const bool warp =
+          ((static_cast<long>(std::floor(u)) + static_cast<long>(std::floor(v))) & 1) != 0;
+      const float across = warp ? fract(u * 4.0f) : fract(v * 4.0f);
+      const float thread = std::sin(std::numbers::pi_v<float> * across);
+      return std::clamp(0.8f * thread + 0.2f * t.turbulence * fbm(t.seed, u * 8, v * 8), 0.0f,
+                        1.0f);
+    }
+    case TextureKind::kWood: {
+      // Growth rings around an axis near the texture's corner, warped by noise.
+      const float r = std::sqrt((u + 0.3f) * (u + 0.3f) + 0.1f * (v * v));
+      const float w = r + 0.3f * t.turbulence * fbm(t.seed, u * 2, v * 2);
+      return std::pow(fract(w), 3.0f);
+    }
+    case TextureKind::kMarble:
+      return 0.5f +
+             0.5f * std::sin(kTwoPi * 0.5f * (u + v) + 4.0f * t.turbulence * fbm(t.seed, u, v));
+    case TextureKind::kNone:
+    case TextureKind::kImage:
+      break;
+  }
+  return 0.0f;
+}
+
+Eigen::Vector3f rotate_hue(const Eigen::Vector3f& rgb, float degrees) {
+  if (degrees == 0.0f) return rgb;
+  // Rodrigues rotation about the unit grey axis g = (1, 1, 1)/√3.
+  const float a = degrees * std::numbers::pi_v<float> / 180.0f;
+  const Eigen::Vector3f g = Eigen::Vector3f::Constant(1.0f / std::sqrt(3.0f));
+  const Eigen::Vector3f r =
+      rgb * std::cos(a) + g.cross(rgb) * std::sin(a) + g * g.dot(rgb) * (1.0f - std::cos(a));
+  return r.cwiseMax(0.0f);
+}
+
+TextureSampler::TextureSampler(const scene::Texture& texture, const std::string& resolved_path,
+                               const std::string& what)
+    : texture_(texture) {
+  if (texture.kind == scene::TextureKind::kImage) image_ = load_linear_image(resolved_path, what);
+}
+
+Eigen::Vector3f TextureSampler::at(float u, float v) const {
+  if (texture_.kind == scene::TextureKind::kNone) return Eigen::Vector3f::Ones();
+  if (texture_.kind == scene::TextureKind::kImage) return sample_bilinear(image_, u, 1.0f - v);
+  const float t = procedural_pattern(texture_, u * texture_.scale, v * texture_.scale);
+  return texture_.color_a + t * (texture_.color_b - texture_.color_a);
+}
+
+}  // namespace wheelpose::render

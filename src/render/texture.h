@@ -1,0 +1,46 @@
+#pragma once
+// Colour sources for materials, backgrounds and environments: decoded images (linear RGB,
+// bilinear, wrapping) and procedural patterns evaluated on UVs.
+
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "scene/scene.h"
+
+namespace wheelpose::render {
+
+// sRGB transfer functions (IEC 61966-2-1).
+float srgb_to_linear(float c);
+float linear_to_srgb(float c);
+
+// Reads an image file as linear RGB floats (CV_32FC3, RGB order). 8/16-bit images are sRGB
+// decoded; float images (.hdr) are taken as linear. `what` names the scene entry for errors
+// (e.g. "/materials/2/texture/path"); an unreadable or zero-size image throws Error.
+cv::Mat load_linear_image(const std::string& path, const std::string& what);
+
+// Bilinear lookup with wrap-around; u to the right, v downward, both in image widths/heights.
+Eigen::Vector3f sample_bilinear(const cv::Mat& image, float u, float v);
+
+// The pattern value t ∈ [0, 1] of a procedural texture at uv (already multiplied by scale).
+float procedural_pattern(const scene::Texture& texture, float u, float v);
+
+// Rotates the hue of a linear RGB colour about the grey axis by `degrees`, keeping R+G+B.
+Eigen::Vector3f rotate_hue(const Eigen::Vector3f& rgb, float degrees);
+
+// A texture ready to evaluate (the image decoded once).
+class TextureSampler {
+ public:
+  TextureSampler() = default;
+  TextureSampler(const scene::Texture& texture, const std::string& resolved_path,
+                 const std::string& what);
+  bool active() const { return texture_.kind != scene::TextureKind::kNone; }
+  // The colour at uv: a multiplier for image textures, the blended colours for procedural ones.
+  Eigen::Vector3f at(float u, float v) const;
+  const cv::Mat& image() const { return image_; }
+
+ private:
+  scene::Texture texture_;
+  cv::Mat image_;
+};
+
+}  // namespace wheelpose::render
