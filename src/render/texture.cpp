@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -61,6 +62,9 @@ float linear_to_srgb(float c) {
 }
 
 cv::Mat load_linear_image(const std::string& path, const std::string& what) {
+  // Checked first so OpenCV does not print its own warning for a missing file.
+  if (!std::filesystem::is_regular_file(path))
+    throw Error(what + ": image '" + path + "' not found");
   cv::Mat raw = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);
   if (raw.empty() || raw.cols == 0 || raw.rows == 0) {
     throw Error(what + ": cannot read image '" + path +
