@@ -45,6 +45,7 @@ inline scene::Material material(const Eigen::Vector3f& diffuse, float specular =
 inline scene::Scene lit_sphere() {
   scene::Scene s = empty_scene();
   s.camera.position = Eigen::Vector3f(0, 1, 4);
+  s.camera.orientation = Eigen::Quaternionf(Eigen::AngleAxisf(-0.25f, Eigen::Vector3f::UnitX()));
   s.meshes.push_back(scene::make_sphere(1.0f, 24));
   s.meshes.push_back(scene::make_plane(6, 6, 1));
   s.materials.push_back(material({0.8f, 0.25f, 0.2f}, 0.5f));
@@ -102,6 +103,7 @@ inline scene::Scene shadow() {
   s.sun.enabled = true;
   s.sun.direction = Eigen::Vector3f(-1.0f, 0.8f, 0.3f).normalized();
   s.sun.angular_radius_deg = 3.0f;
+  s.sun.intensity = 0.6f;
   s.point_lights.push_back({{1.5f, 1.5f, 1.0f}, {1.0f, 0.8f, 0.5f}, 1.5f, 0.2f, true});
   s.point_lights.push_back({{0, 5, 0}, {1, 1, 1}, 100.0f, 0.2f, false});  // off: no effect
   return s;
@@ -119,7 +121,7 @@ inline scene::Scene depth_of_field() {
   s.instances.push_back(place(0, 2, {2.0f, 0, -8}, 3, 1));
   s.sun.enabled = true;
   s.sun.direction = Eigen::Vector3f(0.3f, 0.6f, 1.0f).normalized();
-  s.camera.aperture_radius = 0.05f;
+  s.camera.aperture_radius = 0.15f;
   s.camera.focus_distance = 4.0f;
   s.background.texture.kind = scene::TextureKind::kChecker;
   s.background.texture.scale = 8;
