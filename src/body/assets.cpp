@@ -1,0 +1,123 @@
+#include "body/assets.h"
+
+#include <unzip.h>
+#include <zlib.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <vector>
+
+#include "core/error.h"
+
+namespace wheelpose::body {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kHowToGet =
+    "run scripts/setup.sh, or point --assets / WHEELPOSE_ASSETS at a directory holding "
+    "makehuman/ (CC0 data from makehumancommunity/makehuman and mpfb2, see "
+    "shared/assets/makehuman/SOURCE.md)";
+
+bool has_makehuman(const fs::path& dir) {
+  std::error_code ec;
+  return fs::is_regular_file(dir / "makehuman" / "mesh" / "base.obj", ec);
+}
+
+}  // namespace
+
+fs::path locate_assets(const std::optional<fs::path>& explicit_dir) {
+  if (explicit_dir) {
+    if (!has_makehuman(*explicit_dir)) {
+      throw Error(explicit_dir->string() + ": --assets has no makehuman/mesh/base.obj; " +
+                  kHowToGet);
+    }
+    return *explicit_dir;
+  }
+  std::vector<fs::path> candidates;
+  if (const char* env = std::getenv("WHEELPOSE_ASSETS"); env != nullptr && *env != '\0') {
+    candidates.emplace_back(env);
+  }
+  candidates.emplace_back("assets");
+  candidates.emplace_back("../shared/assets");
+  candidates.emplace_back("/work/shared/assets");
+  std::string tried;
+  for (const fs::path& dir : candidates) {
+    if (has_makehuman(dir)) return dir;
+    tried += (tried.empty() ? "" : ", ") + dir.string();
+  }
+  throw Error("makehuman/mesh/base.obj: body assets not found (looked in " + tried + "); " +
+              kHowToGet);
+}
+
+void require_asset(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) {
+    throw Error(path.string() + ": missing asset; " + kHowToGet);
+  }
+}
+
+std::string read_asset(const fs::path& path) {
+  require_asset(path);
+  if (path.extension() != ".gz") {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (!in.good() && !in.eof()) throw Error(path.string() + ": cannot read asset; " + kHowToGet);
+    return text.str();
+  }
+  gzFile file = gzopen(path.c_str(), "rb");
+  if (file == nullptr) throw Error(path.string() + ": cannot open asset; " + kHowToGet);
+  std::string out;
+  char buffer[1 << 16];
+  while (true) {
+    const int n = gzread(file, buffer, sizeof(buffer));
+    if (n < 0) {
+      gzclose(file);
+      throw Error(path.string() + ": corrupt gzip data; " + kHowToGet);
+    }
+    if (n == 0) break;
+    out.append(buffer, static_cast<std::size_t>(n));
+  }
+  // A truncated stream reads as a short file; gzclose reports it.
+  if (gzclose(file) != Z_OK) throw Error(path.string() + ": truncated gzip data; " + kHowToGet);
+  return out;
+}
+
+std::string read_zip_entry(const fs::path& archive, const std::string& entry) {
+  require_asset(archive);
+  unzFile zip = unzOpen(archive.c_str());
+  if (zip == nullptr) throw Error(archive.string() + ": not a readable zip archive");
+  auto close = std::unique_ptr<void, int (*)(unzFile)>(zip, unzClose);
+  if (unzLocateFile(zip, entry.c_str(), 1) != UNZ_OK) {
+    throw Error(archive.string() + ": entry '" + entry + "' missing");
+  }
+  unz_file_info info{};
+  if (unzGetCurrentFileInfo(zip, &info, nullptr, 0, nullptr, 0, nullptr, 0) != UNZ_OK ||
+      unzOpenCurrentFile(zip) != UNZ_OK) {
+    throw Error(archive.string() + ": entry '" + entry + "' unreadable");
+  }
+  std::string out(info.uncompressed_size, '\0');
+  const int n = unzReadCurrentFile(zip, out.data(), static_cast<unsigned>(out.size()));
+  const int crc = unzCloseCurrentFile(zip);
+  if (n < 0 || static_cast<std::size_t>(n) != out.size() || crc != UNZ_OK) {
+    throw Error(archive.string() + ": entry '" + entry + "' corrupt");
+  }
+  return out;
+}
+
+fs::path sweethome3d_archive() {
+  const fs::path path = "/usr/share/sweethome3d/furniture/BlendSwap-CC-BY.sh3f";
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) {
+    throw Error(path.string() +
+                ": missing (CC-BY wheelchair); install it with `apt-get install "
+                "sweethome3d-furniture` (scripts/setup.sh does)");
+  }
+  return path;
+}
+
+}  // namespace wheelpose::body
