@@ -1,0 +1,409 @@
+#include "body/person.h"
+
+#include <assimp/scene.h>
+
+#include <algorithm>
+#include <assimp/Exporter.hpp>
+#include <cmath>
+#include <memory>
+#include <set>
+
+#include "body/assets.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "motion/seating.h"
+
+namespace wheelpose::body {
+
+namespace fs = std::filesystem;
+
+const std::array<const char*, kCocoCount>& coco_names() {
+  static const std::array<const char*, kCocoCount> names = {
+      "nose",           "left_eye",   "right_eye",   "left_ear",   "right_ear",   "left_shoulder",
+      "right_shoulder", "left_elbow", "right_elbow", "left_wrist", "right_wrist", "left_hip",
+      "right_hip",      "left_knee",  "right_knee",  "left_ankle", "right_ankle"};
+  return names;
+}
+
+namespace {
+
+Eigen::Vector3f group_mean(const BaseMesh& base, const std::string& group) {
+  const auto it = base.group_vertices.find(group);
+  if (it == base.group_vertices.end()) throw Error("base.obj: group '" + group + "' missing");
+  Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+  for (int v : it->second) sum += base.vertices[v];
+  return sum / static_cast<float>(it->second.size());
+}
+
+}  // namespace
+
+BodyData::BodyData(const fs::path& assets_root)
+    : model_(assets_root), rig_(load_rig(model_.root(), model_.base())) {
+  const BaseMesh& base = model_.base();
+  std::set<int> used;
+  for (const auto& q : base.body_quads) used.insert(q.begin(), q.end());
+  body_vertices_.assign(used.begin(), used.end());
+  std::vector<int> local(base.vertices.size(), -1);
+  for (std::size_t i = 0; i < body_vertices_.size(); ++i)
+    local[body_vertices_[i]] = static_cast<int>(i);
+  for (const auto& q : base.body_quads) {
+    const unsigned a = local[q[0]], b = local[q[1]], c = local[q[2]], d = local[q[3]];
+    triangles_.push_back({a, b, c});
+    if (q[3] != q[0]) triangles_.push_back({a, c, d});
+  }
+  // Face landmarks on the rest base mesh (decimetres): the nose tip is the most forward midline
+  // head vertex; eyes are the eyeball helpers; ears the outermost head vertices behind the eyes.
+  const Eigen::Vector3f head = group_mean(base, "joint-head");
+  const Eigen::Vector3f eye_l = group_mean(base, "helper-l-eye");
+  const Eigen::Vector3f eye_r = group_mean(base, "helper-r-eye");
+  int nose = -1, ear_l = -1, ear_r = -1;
+  for (int v : body_vertices_) {
+    const Eigen::Vector3f& p = base.vertices[v];
+    if (p.y() < head.y()) continue;
+    if (std::abs(p.x()) < 0.05f && (nose < 0 || p.z() > base.vertices[nose].z())) nose = v;
+    const bool ear_band =
+        p.y() > eye_l.y() - 0.6f && p.y() < eye_l.y() + 0.1f && p.z() < eye_l.z() - 0.6f;
+    if (ear_band && (ear_l < 0 || p.x() > base.vertices[ear_l].x())) ear_l = v;
+    if (ear_band && (ear_r < 0 || p.x() < base.vertices[ear_r].x())) ear_r = v;
+  }
+  if (nose < 0 || ear_l < 0 || ear_r < 0) throw Error("base.obj: head landmarks not found");
+  face_[0] = {nose};
+  face_[1] = base.group_vertices.at("helper-l-eye");
+  face_[2] = base.group_vertices.at("helper-r-eye");
+  face_[3] = {ear_l};
+  face_[4] = {ear_r};
+  (void)eye_r;
+}
+
+PersonSpec sample_spec(std::uint64_t seed) {
+  PersonSpec spec;
+  spec.seed = seed;
+  RandomStream s(seed, {"body", "params"});
+  MacroParams& p = spec.params;
+  p.gender = s.uniform01();
+  p.age_years = s.bernoulli(0.12) ? s.uniform(10, 18) : s.uniform(18, 90);
+  p.muscle = std::clamp(s.normal(0.5, 0.18), 0.0, 1.0);
+  p.weight = std::clamp(s.normal(0.5, 0.2), 0.0, 1.0);
+  p.height = std::clamp(s.normal(0.5, 0.2), 0.0, 1.0);
+  p.proportions = s.uniform(0.3, 0.9);
+  // A mix of ancestries, usually dominated by one.
+  const double a = std::pow(s.uniform01(), 3), b = std::pow(s.uniform01(), 3),
+               c = std::pow(s.uniform01(), 3);
+  const double sum = std::max(a + b + c, 1e-9);
+  p.african = a / sum;
+  p.asian = b / sum;
+  p.caucasian = c / sum;
+  const double tone = 0.12 * p.african + 0.6 * p.asian + 0.8 * p.caucasian;
+  p.skin_tone = std::clamp(tone + s.normal(0.0, 0.1), 0.0, 1.0);
+  const double u = s.uniform01();
+  spec.wheelchair = u < 0.6    ? WheelchairType::kManual
+                    : u < 0.75 ? WheelchairType::kSport
+                               : WheelchairType::kPower;
+  return spec;
+}
+
+void apply_overrides(PersonSpec& spec, const std::vector<std::string>& overrides) {
+  for (const std::string& kv : overrides) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos) throw Error("--params " + kv + ": expected key=value");
+    const std::string key = kv.substr(0, eq), value = kv.substr(eq + 1);
+    if (key == "wheelchair") {
+      spec.wheelchair = wheelchair_type_from_name(value);
+    } else {
+      spec.params.set(key, value);
+    }
+  }
+}
+
+motion::PoseRotations rest_seated_pose() {
+  using Q = Eigen::Quaterniond;
+  using V = Eigen::Vector3d;
+  motion::PoseRotations g;
+  g.fill(Q::Identity());
+  const motion::SeatingOptions seat;
+  const V down(0, -1, 0);
+  for (int hip : {motion::kLeftHip, motion::kRightHip}) {
+    g[hip] = Q::FromTwoVectors(down, motion::seated_thigh_direction(seat));
+  }
+  for (int knee : {motion::kLeftKnee, motion::kRightKnee}) {
+    g[knee] = Q::FromTwoVectors(down, motion::seated_shin_direction(seat));
+  }
+  for (int side : {1, -1}) {
+    const bool left = side > 0;
+    const int shoulder = left ? motion::kLeftShoulder : motion::kRightShoulder;
+    const int elbow = left ? motion::kLeftElbow : motion::kRightElbow;
+    const int wrist = left ? motion::kLeftWrist : motion::kRightWrist;
+    const V rest(side, 0, 0);
+    g[shoulder] = Q::FromTwoVectors(rest, V(0.08 * side, -0.95, 0.3).normalized());
+    g[elbow] = Q::FromTwoVectors(rest, V(-0.2 * side, 0.2, 0.96).normalized());
+    g[wrist] = g[elbow];
+  }
+  return g;
+}
+
+Person build_person(const BodyData& data, const PersonSpec& spec) {
+  Person person;
+  const Rig& rig = data.rig();
+  const std::vector<Eigen::Vector3f> morphed = data.model().morph(spec.params);
+  person.rest_bones = bone_positions(rig, morphed);
+  const RigPose pose =
+      retarget(rig, person.rest_bones, spec.pose ? *spec.pose : rest_seated_pose());
+  person.posed_bones = pose_bones(rig, person.rest_bones, pose);
+  const std::vector<Eigen::Vector3f> posed = skin(rig, person.rest_bones, pose, morphed);
+  const std::vector<int>& body = data.body_vertices();
+  person.vertices.reserve(body.size());
+  person.rest_vertices.reserve(body.size());
+  for (int v : body) {
+    person.vertices.push_back(posed[v]);
+    person.rest_vertices.push_back(morphed[v]);
+  }
+  person.joints = skeleton_joints(rig, person.posed_bones);
+  person.skin = skin_colour(spec.params.skin_tone);
+
+  // Face keypoints move rigidly with the head bone.
+  const int head = rig.bone("head");
+  const Eigen::Quaternionf head_rot = pose.rotation[head];
+  std::array<Eigen::Vector3f, 5> face;
+  for (int k = 0; k < 5; ++k) {
+    Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+    for (int v : data.face_landmarks()[k]) sum += morphed[v];
+    const Eigen::Vector3f rest = sum / static_cast<float>(data.face_landmarks()[k].size());
+    face[k] = person.posed_bones.head[head] + head_rot * (rest - person.rest_bones.head[head]);
+  }
+  auto joint = [&](int j) { return person.joints[j].cast<float>().eval(); };
+  person.coco = {face[0],
+                 face[1],
+                 face[2],
+                 face[3],
+                 face[4],
+                 joint(motion::kLeftShoulder),
+                 joint(motion::kRightShoulder),
+                 joint(motion::kLeftElbow),
+                 joint(motion::kRightElbow),
+                 joint(motion::kLeftWrist),
+                 joint(motion::kRightWrist),
+                 joint(motion::kLeftHip),
+                 joint(motion::kRightHip),
+                 joint(motion::kLeftKnee),
+                 joint(motion::kRightKnee),
+                 joint(motion::kLeftAnkle),
+                 joint(motion::kRightAnkle)};
+  const Eigen::Vector3f up = (joint(motion::kNeckBase) - joint(motion::kPelvis)).normalized();
+  person.raised_hips = {joint(motion::kLeftHip) + 0.09f * up,
+                        joint(motion::kRightHip) + 0.09f * up};
+
+  // The chair is fitted to the rest seated pose, so it does not change with the clip frame.
+  std::vector<Eigen::Vector3f> seated_vertices;
+  motion::Pose seated_joints;
+  if (spec.pose) {
+    const RigPose seated = retarget(rig, person.rest_bones, rest_seated_pose());
+    seated_vertices = skin(rig, person.rest_bones, seated, morphed);
+    seated_joints = skeleton_joints(rig, pose_bones(rig, person.rest_bones, seated));
+  } else {
+    seated_vertices = posed;
+    seated_joints = person.joints;
+  }
+  const SeatFit fit =
+      measure_seat_fit(seated_vertices, body, seated_joints[motion::kLeftHip].cast<float>(),
+                       seated_joints[motion::kRightHip].cast<float>(),
+                       seated_joints[motion::kLeftKnee].cast<float>(),
+                       seated_joints[motion::kLeftAnkle].cast<float>(),
+                       seated_joints[motion::kHeadBase].cast<float>());
+  RandomStream chair_stream(spec.seed, {"body", "wheelchair"});
+  person.chair = make_wheelchair(spec.wheelchair, fit, chair_stream);
+
+  // Floor at y = 0.
+  const Eigen::Vector3f shift(0, -person.chair.ground_y, 0);
+  for (auto& v : person.vertices) v += shift;
+  for (auto& j : person.joints) j += shift.cast<double>();
+  for (auto& k : person.coco) k += shift;
+  for (auto& k : person.raised_hips) k += shift;
+  for (auto& h : person.posed_bones.head) h += shift;
+  for (auto& t : person.posed_bones.tail) t += shift;
+  for (auto& p : person.chair.parts) p.centre += shift;
+  person.chair.ground_y = 0;
+
+  float ymin = 1e9f, ymax = -1e9f;
+  for (const auto& v : person.rest_vertices) {
+    ymin = std::min(ymin, v.y());
+    ymax = std::max(ymax, v.y());
+  }
+  auto vec = [](const Eigen::Vector3f& v) {
+    auto r = [](float x) { return std::round(static_cast<double>(x) * 1e5) / 1e5; };
+    return nlohmann::ordered_json::array({r(v.x()), r(v.y()), r(v.z())});
+  };
+  nlohmann::ordered_json d;
+  d["format"] = "wheelpose.body";
+  d["version"] = 1;
+  d["seed"] = spec.seed;
+  d["params"] = spec.params.to_json();
+  d["stature_m"] = std::round(static_cast<double>(ymax - ymin) * 1e4) / 1e4;
+  d["skin_colour"] = vec(person.skin);
+  d["rig"] = "mpfb2 game_engine (53 bones)";
+  d["wheelchair"] = person.chair.dimensions;
+  nlohmann::ordered_json kp;
+  for (int k = 0; k < kCocoCount; ++k) kp[coco_names()[k]] = vec(person.coco[k]);
+  d["coco_keypoints"] = kp;
+  d["raised_hips"] = {{"left_hip", vec(person.raised_hips[0])},
+                      {"right_hip", vec(person.raised_hips[1])}};
+  nlohmann::ordered_json joints;
+  for (int j = 0; j < motion::kJointCount; ++j) {
+    joints[std::string(motion::joint_name(j))] = vec(person.joints[j].cast<float>());
+  }
+  d["joints"] = joints;
+  person.description = std::move(d);
+  return person;
+}
+
+namespace {
+
+aiVector3D ai(const Eigen::Vector3f& v) { return aiVector3D(v.x(), v.y(), v.z()); }
+
+aiMesh* make_ai_mesh(const std::string& name, const std::vector<Eigen::Vector3f>& vertices,
+                     const std::vector<Eigen::Vector3f>* normals,
+                     const std::vector<std::array<unsigned, 3>>& triangles, unsigned material) {
+  auto* mesh = new aiMesh;
+  mesh->mName = name;
+  mesh->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
+  mesh->mMaterialIndex = material;
+  mesh->mNumVertices = static_cast<unsigned>(vertices.size());
+  mesh->mVertices = new aiVector3D[vertices.size()];
+  for (std::size_t i = 0; i < vertices.size(); ++i) mesh->mVertices[i] = ai(vertices[i]);
+  if (normals != nullptr) {
+    mesh->mNormals = new aiVector3D[vertices.size()];
+    for (std::size_t i = 0; i < vertices.size(); ++i) mesh->mNormals[i] = ai((*normals)[i]);
+  }
+  mesh->mNumFaces = static_cast<unsigned>(triangles.size());
+  mesh->mFaces = new aiFace[triangles.size()];
+  for (std::size_t i = 0; i < triangles.size(); ++i) {
+    mesh->mFaces[i].mNumIndices = 3;
+    mesh->mFaces[i].mIndices = new unsigned[3]{triangles[i][0], triangles[i][1], triangles[i][2]};
+  }
+  return mesh;
+}
+
+aiMaterial* make_material(const std::string& name, const Eigen::Vector3f& colour) {
+  auto* m = new aiMaterial;
+  const aiString n(name);
+  m->AddProperty(&n, AI_MATKEY_NAME);
+  const aiColor4D c(colour.x(), colour.y(), colour.z(), 1.0f);
+  m->AddProperty(&c, 1, AI_MATKEY_COLOR_DIFFUSE);
+  return m;
+}
+
+std::vector<Eigen::Vector3f> vertex_normals(const std::vector<Eigen::Vector3f>& v,
+                                            const std::vector<std::array<unsigned, 3>>& tris) {
+  std::vector<Eigen::Vector3f> n(v.size(), Eigen::Vector3f::Zero());
+  for (const auto& t : tris) {
+    const Eigen::Vector3f f = (v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]);
+    for (unsigned i : t) n[i] += f;
+  }
+  for (auto& x : n)
+    x = x.squaredNorm() > 0 ? x.normalized().eval() : Eigen::Vector3f::UnitY().eval();
+  return n;
+}
+
+std::uint32_t u32(const std::vector<std::uint8_t>& b, std::size_t at) {
+  return b[at] | b[at + 1] << 8 | b[at + 2] << 16 | static_cast<std::uint32_t>(b[at + 3]) << 24;
+}
+
+// Assimp 5.2.5 leaves uninitialised bytes between buffer views; zero them for determinism.
+void zero_gaps(std::vector<std::uint8_t>& glb) {
+  if (glb.size() < 28) return;
+  const std::size_t json_len = u32(glb, 12);
+  const std::size_t bin_header = 20 + json_len;
+  if (glb.size() < bin_header + 8) return;
+  const std::size_t bin_start = bin_header + 8;
+  const std::size_t bin_len = std::min<std::size_t>(u32(glb, bin_header), glb.size() - bin_start);
+  const auto json =
+      nlohmann::json::parse(glb.begin() + 20, glb.begin() + 20 + json_len, nullptr, false);
+  if (json.is_discarded() || !json.contains("bufferViews")) return;
+  std::vector<bool> used(bin_len, false);
+  for (const auto& view : json["bufferViews"]) {
+    const std::size_t off = view.value("byteOffset", std::size_t{0});
+    const std::size_t len = view.value("byteLength", std::size_t{0});
+    for (std::size_t i = off; i < std::min(off + len, bin_len); ++i) used[i] = true;
+  }
+  for (std::size_t i = 0; i < bin_len; ++i) {
+    if (!used[i]) glb[bin_start + i] = 0;
+  }
+}
+
+struct SceneParts {
+  std::vector<aiMesh*> meshes;
+  std::vector<aiMaterial*> materials;
+  std::vector<std::pair<std::string, Eigen::Vector3f>> markers;
+};
+
+void add_chair(SceneParts& parts, const Wheelchair& chair) {
+  static const char* kNames[] = {"frame", "upholstery", "tyre", "trim"};
+  for (int m = 0; m < static_cast<int>(chair.colours.size()); ++m) {
+    const TriMesh mesh = primitive_mesh(chair, m);
+    if (mesh.triangles.empty()) continue;
+    const std::string name = std::string("wheelchair_") + kNames[m];
+    parts.materials.push_back(make_material(name + "_material", chair.colours[m]));
+    parts.meshes.push_back(make_ai_mesh(name, mesh.vertices, &mesh.normals, mesh.triangles,
+                                        static_cast<unsigned>(parts.materials.size() - 1)));
+  }
+}
+
+void export_parts(SceneParts& parts, const fs::path& path) {
+  auto scene = std::make_unique<aiScene>();
+  scene->mRootNode = new aiNode("wheelpose_body_root");
+  const std::size_t n = parts.meshes.size() + parts.markers.size();
+  scene->mRootNode->mNumChildren = static_cast<unsigned>(n);
+  scene->mRootNode->mChildren = new aiNode*[n];
+  for (std::size_t i = 0; i < parts.meshes.size(); ++i) {
+    auto* node = new aiNode(std::string(parts.meshes[i]->mName.C_Str()) + "_node");
+    node->mParent = scene->mRootNode;
+    node->mNumMeshes = 1;
+    node->mMeshes = new unsigned[1]{static_cast<unsigned>(i)};
+    scene->mRootNode->mChildren[i] = node;
+  }
+  for (std::size_t k = 0; k < parts.markers.size(); ++k) {
+    auto* node = new aiNode(parts.markers[k].first);
+    node->mParent = scene->mRootNode;
+    aiMatrix4x4::Translation(ai(parts.markers[k].second), node->mTransformation);
+    scene->mRootNode->mChildren[parts.meshes.size() + k] = node;
+  }
+  scene->mNumMeshes = static_cast<unsigned>(parts.meshes.size());
+  scene->mMeshes = new aiMesh*[parts.meshes.size()];
+  std::copy(parts.meshes.begin(), parts.meshes.end(), scene->mMeshes);
+  scene->mNumMaterials = static_cast<unsigned>(parts.materials.size());
+  scene->mMaterials = new aiMaterial*[parts.materials.size()];
+  std::copy(parts.materials.begin(), parts.materials.end(), scene->mMaterials);
+  Assimp::Exporter exporter;
+  const aiExportDataBlob* blob = exporter.ExportToBlob(scene.get(), "glb2");
+  if (blob == nullptr) {
+    throw Error(path.string() + ": glTF export failed: " + exporter.GetErrorString(),
+                ErrorKind::kFailure);
+  }
+  const auto* data = static_cast<const std::uint8_t*>(blob->data);
+  std::vector<std::uint8_t> bytes(data, data + blob->size);
+  zero_gaps(bytes);
+  write_file_atomic(path, std::span<const std::uint8_t>(bytes));
+}
+
+}  // namespace
+
+void write_person_glb(const Person& person, const BodyData& data, const fs::path& path) {
+  SceneParts parts;
+  parts.materials.push_back(make_material("skin", person.skin));
+  const auto normals = vertex_normals(person.vertices, data.body_triangles());
+  parts.meshes.push_back(make_ai_mesh("body", person.vertices, &normals, data.body_triangles(), 0));
+  add_chair(parts, person.chair);
+  for (int k = 0; k < kCocoCount; ++k) {
+    parts.markers.emplace_back(std::string("kp_") + coco_names()[k], person.coco[k]);
+  }
+  parts.markers.emplace_back("kp_left_hip_raised", person.raised_hips[0]);
+  parts.markers.emplace_back("kp_right_hip_raised", person.raised_hips[1]);
+  export_parts(parts, path);
+}
+
+void write_wheelchair_glb(const Wheelchair& chair, const fs::path& path) {
+  SceneParts parts;
+  add_chair(parts, chair);
+  export_parts(parts, path);
+}
+
+}  // namespace wheelpose::body

@@ -1,0 +1,81 @@
+#pragma once
+// A posed person seated in a fitted wheelchair: the body stage's product. BodyData is the shared,
+// read-only model (load once); build_person is the per-person work.
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "body/human.h"
+#include "body/rig.h"
+#include "body/wheelchair.h"
+#include "motion/clip.h"
+
+namespace wheelpose::body {
+
+inline constexpr int kCocoCount = 17;
+// COCO-17 order: nose, left_eye, right_eye, left_ear, right_ear, left/right shoulder, elbow,
+// wrist, hip, knee, ankle.
+const std::array<const char*, kCocoCount>& coco_names();
+
+class BodyData {
+ public:
+  explicit BodyData(const std::filesystem::path& assets_root);
+  const HumanModel& model() const { return model_; }
+  const Rig& rig() const { return rig_; }
+  // Base-mesh vertices used by the visible body (helper geometry excluded), ascending.
+  const std::vector<int>& body_vertices() const { return body_vertices_; }
+  // Body triangles indexed into body_vertices().
+  const std::vector<std::array<unsigned, 3>>& body_triangles() const { return triangles_; }
+  // Head-mesh landmarks: base-mesh vertex sets whose mean is the keypoint.
+  const std::array<std::vector<int>, 5>& face_landmarks() const { return face_; }
+
+ private:
+  HumanModel model_;
+  Rig rig_;
+  std::vector<int> body_vertices_;
+  std::vector<std::array<unsigned, 3>> triangles_;
+  std::array<std::vector<int>, 5> face_;
+};
+
+struct PersonSpec {
+  MacroParams params;
+  WheelchairType wheelchair = WheelchairType::kManual;
+  std::uint64_t seed = 0;
+  // Clip pose (global joint rotations); the rest seated pose when absent.
+  std::optional<motion::PoseRotations> pose;
+};
+
+// Random macro parameters and wheelchair type for `seed` (RandomStream(seed, {"body", ...})).
+PersonSpec sample_spec(std::uint64_t seed);
+// Applies "k=v" overrides (body parameters and wheelchair=manual|sport|power); throws Error.
+void apply_overrides(PersonSpec& spec, const std::vector<std::string>& overrides);
+
+// Rest seated pose: thighs 35 degrees above horizontal, shins down, feet flat, upper arms down,
+// forearms forward over the lap.
+motion::PoseRotations rest_seated_pose();
+
+struct Person {
+  std::vector<Eigen::Vector3f> vertices;  // posed body vertices (body_vertices() order), metres
+  std::vector<Eigen::Vector3f> rest_vertices;  // morphed, unposed
+  BoneFrames rest_bones, posed_bones;
+  motion::Pose joints;                           // our 23 joints on the posed body
+  std::array<Eigen::Vector3f, kCocoCount> coco;  // COCO-17 keypoints
+  std::array<Eigen::Vector3f, 2> raised_hips;    // hips 9 cm up the torso (left, right)
+  Eigen::Vector3f skin = Eigen::Vector3f::Ones();
+  Wheelchair chair;
+  nlohmann::ordered_json description;  // parameters, chair dimensions, keypoints
+};
+
+Person build_person(const BodyData& data, const PersonSpec& spec);
+
+// glb with meshes "body" and "wheelchair_<material>" and one empty node per keypoint; the floor
+// is at y = 0. Byte-identical for identical persons.
+void write_person_glb(const Person& person, const BodyData& data,
+                      const std::filesystem::path& path);
+// glb of an empty wheelchair (scene object).
+void write_wheelchair_glb(const Wheelchair& chair, const std::filesystem::path& path);
+
+}  // namespace wheelpose::body

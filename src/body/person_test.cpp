@@ -1,0 +1,123 @@
+#include "body/person.h"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "body/test_data.h"
+#include "core/error.h"
+
+namespace wheelpose::body {
+namespace {
+
+using testing::body_data;
+
+TEST(Person, SeatContactBelowOneCentimetreForEveryChairType) {
+  for (WheelchairType type :
+       {WheelchairType::kManual, WheelchairType::kSport, WheelchairType::kPower}) {
+    for (std::uint64_t seed : {1u, 7u, 42u}) {
+      PersonSpec spec = sample_spec(seed);
+      spec.wheelchair = type;
+      const Person person = build_person(body_data(), spec);
+      std::string part;
+      const float depth = max_penetration(person.chair, person.vertices, &part);
+      EXPECT_LT(depth, 0.01f) << wheelchair_type_name(type) << " seed " << seed << " " << part;
+      // Seated on the seat: the pelvis is above the cushion, the floor under the chair.
+      float lowest = 1e9f;
+      for (const auto& v : person.vertices) lowest = std::min(lowest, v.y());
+      EXPECT_GT(lowest, 0.0f);
+    }
+  }
+}
+
+TEST(Person, ChairFittedToBody) {
+  PersonSpec narrow = sample_spec(3), wide = sample_spec(3);
+  narrow.params.weight = 0.0;
+  wide.params.weight = 1.0;
+  narrow.wheelchair = wide.wheelchair = WheelchairType::kManual;
+  const Person a = build_person(body_data(), narrow), b = build_person(body_data(), wide);
+  EXPECT_GT(b.chair.dimensions["seat_width"].get<double>(),
+            a.chair.dimensions["seat_width"].get<double>() + 0.03);
+}
+
+TEST(Person, SportChairHasCamberAndNoArmrestsPowerHasBase) {
+  PersonSpec spec = sample_spec(5);
+  spec.wheelchair = WheelchairType::kSport;
+  const Person sport = build_person(body_data(), spec);
+  EXPECT_GE(sport.chair.dimensions["camber_deg"].get<double>(), 12.0);
+  for (const auto& p : sport.chair.parts) EXPECT_EQ(p.part.find("armrest"), std::string::npos);
+  spec.wheelchair = WheelchairType::kPower;
+  const Person power = build_person(body_data(), spec);
+  std::set<std::string> parts;
+  for (const auto& p : power.chair.parts) parts.insert(p.part);
+  for (const char* need : {"base", "battery", "motor_l", "joystick", "headrest"}) {
+    EXPECT_TRUE(parts.count(need)) << need;
+  }
+}
+
+TEST(Person, KeypointsOnTheHead) {
+  const Person p = build_person(body_data(), sample_spec(11));
+  const Eigen::Vector3f nose = p.coco[0], eye_l = p.coco[1], eye_r = p.coco[2], ear_l = p.coco[3],
+                        ear_r = p.coco[4];
+  EXPECT_GT(eye_l.x(), eye_r.x());  // subject's left is +X
+  EXPECT_GT(ear_l.x(), eye_l.x());
+  EXPECT_LT(ear_r.x(), eye_r.x());
+  EXPECT_GT(nose.z(), ear_l.z() + 0.05f);  // facing +Z
+  EXPECT_NEAR((eye_l - eye_r).norm(), 0.062f, 0.02f);
+  // Raised hips: 9 cm from the hips.
+  EXPECT_NEAR((p.raised_hips[0] - p.coco[11]).norm(), 0.09f, 1e-5f);
+  EXPECT_GT(p.raised_hips[0].y(), p.coco[11].y());
+}
+
+TEST(Person, DeterministicPerSeed) {
+  EXPECT_EQ(sample_spec(9).params.to_json(), sample_spec(9).params.to_json());
+  EXPECT_NE(sample_spec(9).params.to_json(), sample_spec(10).params.to_json());
+  const Person a = build_person(body_data(), sample_spec(9));
+  const Person b = build_person(body_data(), sample_spec(9));
+  EXPECT_EQ(a.description.dump(), b.description.dump());
+}
+
+TEST(Person, OverridesApplyAndRejectGarbage) {
+  PersonSpec spec = sample_spec(1);
+  apply_overrides(spec, {"age=80", "wheelchair=power"});
+  EXPECT_DOUBLE_EQ(spec.params.age_years, 80);
+  EXPECT_EQ(spec.wheelchair, WheelchairType::kPower);
+  EXPECT_THROW(apply_overrides(spec, {"wheelchair=rocket"}), Error);
+  EXPECT_THROW(apply_overrides(spec, {"age"}), Error);
+}
+
+TEST(Wheelchair, InsideDepthHandComputed) {
+  Primitive box;
+  box.half = {1, 2, 3};
+  EXPECT_FLOAT_EQ(inside_depth(box, {0.5f, 0, 0}), 0.5f);
+  EXPECT_LT(inside_depth(box, {1.5f, 0, 0}), 0);
+  Primitive cyl;
+  cyl.kind = Primitive::kCylinder;
+  cyl.half = {0.1f, 0.3f, 0.3f};
+  EXPECT_FLOAT_EQ(inside_depth(cyl, {0, 0.25f, 0}), 0.05f);
+  EXPECT_LT(inside_depth(cyl, {0, 0.2f, 0.25f}), 0);
+}
+
+TEST(Wheelchair, EmptyChairStandsOnTheFloor) {
+  RandomStream s(4, {"empty"});
+  const Wheelchair c = make_empty_wheelchair(WheelchairType::kManual, s);
+  const TriMesh m = primitive_mesh(c, 2);
+  float lowest = 1e9f;
+  for (const auto& v : m.vertices) lowest = std::min(lowest, v.y());
+  EXPECT_NEAR(lowest, c.ground_y, 1e-4f);
+}
+
+TEST(Wheelchair, CcByModelLoadsAtItsSize) {
+  const TriMesh m = load_cc_by_wheelchair();
+  Eigen::Vector3f lo = m.vertices[0], hi = m.vertices[0];
+  for (const auto& v : m.vertices) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  EXPECT_NEAR(hi.x() - lo.x(), 0.64f, 0.01f);
+  EXPECT_NEAR(hi.y() - lo.y(), 0.91f, 0.01f);
+  EXPECT_NEAR(hi.z() - lo.z(), 0.77f, 0.01f);
+}
+
+}  // namespace
+}  // namespace wheelpose::body

@@ -1,0 +1,407 @@
+#include "body/wheelchair.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "body/assets.h"
+#include "core/error.h"
+
+namespace wheelpose::body {
+
+namespace {
+
+constexpr float kPi = std::numbers::pi_v<float>;
+enum Material { kFrame = 0, kUpholstery = 1, kTyre = 2, kTrim = 3 };
+
+Primitive box(const std::string& part, Eigen::Vector3f lo, Eigen::Vector3f hi, int material) {
+  Primitive p;
+  p.kind = Primitive::kBox;
+  p.part = part;
+  p.centre = (lo + hi) / 2;
+  p.half = (hi - lo).cwiseAbs() / 2;
+  p.material = material;
+  return p;
+}
+
+// Cylinder along `axis` through `centre`.
+Primitive cylinder(const std::string& part, Eigen::Vector3f centre, Eigen::Vector3f axis,
+                   float half_length, float radius, int material) {
+  Primitive p;
+  p.kind = Primitive::kCylinder;
+  p.part = part;
+  p.centre = centre;
+  axis.normalize();
+  const Eigen::Vector3f helper =
+      std::abs(axis.y()) < 0.9f ? Eigen::Vector3f::UnitY() : Eigen::Vector3f::UnitZ();
+  const Eigen::Vector3f u = axis.cross(helper).normalized();
+  p.axes.col(0) = axis;
+  p.axes.col(1) = u;
+  p.axes.col(2) = axis.cross(u);
+  p.half = {half_length, radius, radius};
+  p.material = material;
+  return p;
+}
+
+// A tube between two points.
+Primitive tube(const std::string& part, Eigen::Vector3f a, Eigen::Vector3f b, float radius) {
+  return cylinder(part, (a + b) / 2, b - a, (b - a).norm() / 2, radius, kFrame);
+}
+
+Eigen::Vector3f random_colour(RandomStream& s, float lo, float hi) {
+  return {static_cast<float>(s.uniform(lo, hi)), static_cast<float>(s.uniform(lo, hi)),
+          static_cast<float>(s.uniform(lo, hi))};
+}
+
+}  // namespace
+
+const char* wheelchair_type_name(WheelchairType type) {
+  switch (type) {
+    case WheelchairType::kManual:
+      return "manual";
+    case WheelchairType::kSport:
+      return "sport";
+    case WheelchairType::kPower:
+      return "power";
+  }
+  return "manual";
+}
+
+WheelchairType wheelchair_type_from_name(const std::string& name) {
+  if (name == "manual") return WheelchairType::kManual;
+  if (name == "sport") return WheelchairType::kSport;
+  if (name == "power") return WheelchairType::kPower;
+  throw Error("wheelchair '" + name + "': unknown type (manual, sport, power)");
+}
+
+SeatFit measure_seat_fit(const std::vector<Eigen::Vector3f>& v, const std::vector<int>& body,
+                         const Eigen::Vector3f& left_hip, const Eigen::Vector3f& right_hip,
+                         const Eigen::Vector3f& left_knee, const Eigen::Vector3f& left_ankle,
+                         const Eigen::Vector3f& head) {
+  SeatFit f;
+  f.thigh_length = (left_knee - left_hip).norm();
+  f.shin_length = (left_ankle - left_knee).norm();
+  const float hip_y = (left_hip.y() + right_hip.y()) / 2;
+  const float hip_z = (left_hip.z() + right_hip.z()) / 2;
+  float xmin = 0, xmax = 0;
+  f.seat_top = hip_y;
+  f.back_z = hip_z;
+  f.feet_bottom = left_ankle.y();
+  float feet_z_sum = 0;
+  int feet_n = 0;
+  f.head_back_z = head.z();
+  f.head_y = head.y();
+  // Hip width: widest points within 12 cm of hip height behind the knees.
+  for (int i : body) {
+    const Eigen::Vector3f& p = v[i];
+    if (std::abs(p.y() - hip_y) < 0.12f && p.z() < hip_z + 0.15f) {
+      xmin = std::min(xmin, p.x());
+      xmax = std::max(xmax, p.x());
+    }
+  }
+  f.hip_width = xmax - xmin;
+  const float seat_front = hip_z + 0.8f * f.thigh_length;
+  for (int i : body) {
+    const Eigen::Vector3f& p = v[i];
+    const bool over_seat = p.z() < seat_front && std::abs(p.x()) <= f.hip_width / 2 + 0.05f;
+    if (over_seat && p.y() < hip_y + 0.1f) f.seat_top = std::min(f.seat_top, p.y());
+    if (p.y() < left_ankle.y() + 0.05f && p.z() > seat_front - 0.1f) {
+      f.feet_bottom = std::min(f.feet_bottom, p.y());
+      feet_z_sum += p.z();
+      ++feet_n;
+    }
+  }
+  f.feet_z = feet_n > 0 ? feet_z_sum / feet_n : left_ankle.z() + 0.05f;
+  f.armrest_limit = 0.30f;
+  for (int i : body) {
+    const Eigen::Vector3f& p = v[i];
+    if (p.y() >= f.seat_top && p.y() < f.seat_top + 0.7f &&
+        std::abs(p.x()) <= f.hip_width / 2 + 0.05f && p.z() < seat_front) {
+      f.back_z = std::min(f.back_z, p.z());
+    }
+    // Arms hanging beside the hips limit the armrest height.
+    if (std::abs(p.x()) > f.hip_width / 2 - 0.01f && std::abs(p.x()) < f.hip_width / 2 + 0.12f &&
+        p.z() > f.back_z && p.z() < seat_front && p.y() > f.seat_top + 0.08f) {
+      f.armrest_limit = std::min(f.armrest_limit, p.y() - f.seat_top);
+    }
+    if (p.y() > head.y() - 0.12f && p.y() < head.y() + 0.1f && std::abs(p.x()) < 0.1f) {
+      f.head_back_z = std::min(f.head_back_z, p.z());
+    }
+  }
+  return f;
+}
+
+Wheelchair make_wheelchair(WheelchairType type, const SeatFit& fit, RandomStream& s) {
+  Wheelchair c;
+  c.type = type;
+  c.colours = {random_colour(s, 0.05f, 0.9f), random_colour(s, 0.02f, 0.25f),
+               Eigen::Vector3f(0.05f, 0.05f, 0.05f), random_colour(s, 0.5f, 0.85f)};
+  const bool sport = type == WheelchairType::kSport;
+  const bool power = type == WheelchairType::kPower;
+  // Seat fitted to the body: width from the hips, depth from the thigh.
+  const float seat_w = fit.hip_width + static_cast<float>(s.uniform(0.02, 0.06));
+  const float seat_d = fit.thigh_length * static_cast<float>(s.uniform(0.8, 0.92));
+  const float gap = 0.003f;
+  const float top = fit.seat_top - gap;
+  const float back = fit.back_z - gap;
+  const float front = back + seat_d;
+  const float hw = seat_w / 2;
+  const float cushion = power ? 0.08f : 0.05f;
+  // Footplate height from the shin: the feet rest on it.
+  const float plate_top = fit.feet_bottom - gap;
+  const float plate_clearance = static_cast<float>(s.uniform(0.04, 0.08));
+  c.ground_y = plate_top - 0.02f - plate_clearance;
+  const float ground = c.ground_y;
+
+  c.parts.push_back(box("seat", {-hw, top - cushion, back}, {hw, top, front}, kUpholstery));
+  const float back_h = sport   ? static_cast<float>(s.uniform(0.18, 0.28))
+                       : power ? static_cast<float>(s.uniform(0.50, 0.60))
+                               : static_cast<float>(s.uniform(0.38, 0.48));
+  const float back_t = 0.03f;
+  c.parts.push_back(
+      box("backrest", {-hw, top, back - back_t}, {hw, top + back_h, back}, kUpholstery));
+  // Back posts / canes.
+  for (int side : {-1, 1}) {
+    const std::string sfx = side < 0 ? "_r" : "_l";
+    const float x = side * (hw + 0.012f);
+    c.parts.push_back(tube("back_post" + sfx, {x, top - cushion, back - back_t},
+                           {x, top + back_h + (sport ? 0.0f : 0.05f), back - back_t}, 0.012f));
+    c.parts.push_back(tube("seat_rail" + sfx, {x, top - cushion, back - back_t},
+                           {x, top - cushion, front}, 0.012f));
+    c.parts.push_back(
+        tube("front_post" + sfx, {x, top - cushion, front}, {x, plate_top, fit.feet_z}, 0.012f));
+  }
+  // Footplate under the feet.
+  const float plate_d = static_cast<float>(s.uniform(0.14, 0.2));
+  c.parts.push_back(box("footplate", {-hw, plate_top - 0.02f, fit.feet_z - plate_d / 2},
+                        {hw, plate_top, fit.feet_z + plate_d / 2}, kTrim));
+  nlohmann::ordered_json dims = {{"type", wheelchair_type_name(type)},
+                                 {"seat_width", seat_w},
+                                 {"seat_depth", seat_d},
+                                 {"seat_height", top - ground},
+                                 {"backrest_height", back_h},
+                                 {"footplate_height", plate_top - ground}};
+
+  if (!power) {
+    // Rear wheels with push rims; sport wheels are cambered (tops inward).
+    const float r = static_cast<float>(s.uniform(0.28, 0.33));
+    const float camber = sport ? static_cast<float>(s.uniform(12.0, 18.0)) * kPi / 180 : 0.0f;
+    const float axle_z = back + static_cast<float>(s.uniform(0.0, 0.08));
+    for (int side : {-1, 1}) {
+      const std::string sfx = side < 0 ? "_r" : "_l";
+      // Axis tilted so the wheel's top leans toward the chair.
+      const Eigen::Vector3f axis(side * std::cos(camber), -std::sin(camber), 0);
+      const float x = side * (hw + 0.05f + r * std::sin(camber));
+      const Eigen::Vector3f hub(x, ground + r * std::cos(camber), axle_z);
+      c.parts.push_back(cylinder("rear_wheel" + sfx, hub, axis, 0.015f, r, kTyre));
+      c.parts.push_back(
+          cylinder("push_rim" + sfx, hub + axis * 0.035f, axis, 0.006f, r - 0.03f, kTrim));
+      c.parts.push_back(tube("axle" + sfx, hub, {side * (hw + 0.012f), hub.y(), axle_z}, 0.01f));
+      const float cr = static_cast<float>(sport ? s.uniform(0.03, 0.05) : s.uniform(0.06, 0.1));
+      const float cz = front - 0.02f;
+      const float cx = side * (hw + 0.03f);
+      c.parts.push_back(
+          cylinder("caster" + sfx, {cx, ground + cr, cz}, {1, 0, 0}, 0.015f, cr, kTyre));
+    }
+    dims["rear_wheel_radius"] = r;
+    dims["camber_deg"] = camber * 180 / kPi;
+  } else {
+    // Power base: motors, battery box, six small wheels.
+    const float base_top = std::min(top - cushion - 0.05f, ground + 0.35f);
+    c.parts.push_back(
+        box("base", {-hw + 0.03f, ground + 0.08f, back}, {hw - 0.03f, base_top, front}, kFrame));
+    c.parts.push_back(box("battery", {-hw + 0.06f, ground + 0.1f, back - 0.18f},
+                          {hw - 0.06f, base_top - 0.04f, back}, kTrim));
+    const float r = static_cast<float>(s.uniform(0.14, 0.18));
+    for (int side : {-1, 1}) {
+      const std::string sfx = side < 0 ? "_r" : "_l";
+      const float mid_z = (back + front) / 2;
+      c.parts.push_back(cylinder("drive_wheel" + sfx, {side * (hw + 0.03f), ground + r, mid_z},
+                                 {1, 0, 0}, 0.04f, r, kTyre));
+      c.parts.push_back(cylinder("motor" + sfx, {side * (hw - 0.08f), ground + r, mid_z}, {1, 0, 0},
+                                 0.06f, 0.06f, kTrim));
+      for (float z : {back - 0.1f, front + 0.03f}) {
+        c.parts.push_back(cylinder(std::string(z < back ? "rear" : "front") + "_caster" + sfx,
+                                   {side * (hw - 0.02f), ground + 0.07f, z}, {1, 0, 0}, 0.02f,
+                                   0.07f, kTyre));
+      }
+    }
+    // Headrest behind the head.
+    const float hr_z = std::min(fit.head_back_z - gap, back) - 0.04f;
+    c.parts.push_back(box("headrest", {-0.12f, fit.head_y - 0.08f, hr_z},
+                          {0.12f, fit.head_y + 0.08f, hr_z + 0.04f}, kUpholstery));
+    c.parts.push_back(tube("headrest_post", {0, top + back_h, back - back_t / 2},
+                           {0, fit.head_y - 0.08f, hr_z + 0.02f}, 0.01f));
+    dims["drive_wheel_radius"] = r;
+  }
+  if (!sport) {
+    // Armrests, as high as the hanging arms allow.
+    const float arm_h = std::clamp(fit.armrest_limit - 0.01f, 0.12f, 0.26f);
+    for (int side : {-1, 1}) {
+      const std::string sfx = side < 0 ? "_r" : "_l";
+      const float x0 = side * (hw + 0.005f), x1 = side * (hw + 0.06f);
+      c.parts.push_back(box("armrest" + sfx, {std::min(x0, x1), top + arm_h - 0.04f, back + 0.03f},
+                            {std::max(x0, x1), top + arm_h, front - 0.05f}, kUpholstery));
+    }
+    if (power) {
+      c.parts.push_back(box("joystick_box", {-hw - 0.07f, top + arm_h, front - 0.12f},
+                            {-hw - 0.01f, top + arm_h + 0.04f, front - 0.05f}, kTrim));
+      c.parts.push_back(cylinder("joystick", {-hw - 0.04f, top + arm_h + 0.07f, front - 0.085f},
+                                 {0, 1, 0}, 0.03f, 0.008f, kFrame));
+    }
+    dims["armrest_height"] = arm_h;
+  }
+  dims["colours"] = nlohmann::ordered_json::array();
+  for (const auto& col : c.colours) dims["colours"].push_back({col.x(), col.y(), col.z()});
+  c.dimensions = std::move(dims);
+  return c;
+}
+
+Wheelchair make_empty_wheelchair(WheelchairType type, RandomStream& stream) {
+  SeatFit fit;
+  fit.seat_top = -0.08f;
+  fit.back_z = -0.12f;
+  fit.feet_bottom = -0.50f;
+  fit.feet_z = 0.36f;
+  fit.head_y = 0.62f;
+  fit.head_back_z = -0.08f;
+  return make_wheelchair(type, fit, stream);
+}
+
+float inside_depth(const Primitive& prim, const Eigen::Vector3f& p) {
+  const Eigen::Vector3f local = prim.axes.transpose() * (p - prim.centre);
+  if (prim.kind == Primitive::kBox) {
+    return (prim.half - local.cwiseAbs()).minCoeff();
+  }
+  const float radial = std::hypot(local.y(), local.z());
+  return std::min(prim.half.x() - std::abs(local.x()), prim.half.y() - radial);
+}
+
+float max_penetration(const Wheelchair& chair, const std::vector<Eigen::Vector3f>& points,
+                      std::string* part) {
+  float worst = 0;
+  for (const Primitive& prim : chair.parts) {
+    const float reach = prim.half.norm();
+    for (const Eigen::Vector3f& p : points) {
+      if ((p - prim.centre).squaredNorm() > reach * reach) continue;
+      const float d = inside_depth(prim, p);
+      if (d > worst) {
+        worst = d;
+        if (part != nullptr) *part = prim.part;
+      }
+    }
+  }
+  return worst;
+}
+
+TriMesh primitive_mesh(const Wheelchair& chair, int material) {
+  TriMesh m;
+  auto add_quad = [&](const std::array<Eigen::Vector3f, 4>& q, const Eigen::Vector3f& n) {
+    const unsigned base = static_cast<unsigned>(m.vertices.size());
+    for (const auto& p : q) {
+      m.vertices.push_back(p);
+      m.normals.push_back(n);
+    }
+    m.triangles.push_back({base, base + 1, base + 2});
+    m.triangles.push_back({base, base + 2, base + 3});
+  };
+  for (const Primitive& prim : chair.parts) {
+    if (prim.material != material) continue;
+    auto world = [&](const Eigen::Vector3f& l) -> Eigen::Vector3f {
+      return prim.centre + prim.axes * l;
+    };
+    if (prim.kind == Primitive::kBox) {
+      const Eigen::Vector3f h = prim.half;
+      for (int axis = 0; axis < 3; ++axis) {
+        for (int sign : {-1, 1}) {
+          const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+          std::array<Eigen::Vector3f, 4> q;
+          const float sa[4] = {-1, 1, 1, -1}, sb[4] = {-1, -1, 1, 1};
+          for (int k = 0; k < 4; ++k) {
+            Eigen::Vector3f l;
+            l[axis] = sign * h[axis];
+            l[a] = sa[k] * h[a];
+            l[b] = sign * sb[k] * h[b];
+            q[k] = world(l);
+          }
+          Eigen::Vector3f n = Eigen::Vector3f::Zero();
+          n[axis] = static_cast<float>(sign);
+          add_quad(q, prim.axes * n);
+        }
+      }
+    } else {
+      constexpr int kSegments = 24;
+      const float hl = prim.half.x(), r = prim.half.y();
+      for (int k = 0; k < kSegments; ++k) {
+        const float a0 = 2 * kPi * k / kSegments, a1 = 2 * kPi * (k + 1) / kSegments;
+        const Eigen::Vector3f d0(0, std::cos(a0), std::sin(a0)), d1(0, std::cos(a1), std::sin(a1));
+        const Eigen::Vector3f ax(hl, 0, 0);
+        add_quad({world(-ax + r * d0), world(-ax + r * d1), world(ax + r * d1), world(ax + r * d0)},
+                 prim.axes * ((d0 + d1) / 2).normalized());
+        // End caps as triangles fanning from the axis.
+        for (int sign : {-1, 1}) {
+          const unsigned base = static_cast<unsigned>(m.vertices.size());
+          const Eigen::Vector3f n = prim.axes * Eigen::Vector3f(static_cast<float>(sign), 0, 0);
+          m.vertices.push_back(world(sign * ax));
+          m.vertices.push_back(world(sign * ax + r * (sign > 0 ? d0 : d1)));
+          m.vertices.push_back(world(sign * ax + r * (sign > 0 ? d1 : d0)));
+          for (int i = 0; i < 3; ++i) m.normals.push_back(n);
+          m.triangles.push_back({base, base + 1, base + 2});
+        }
+      }
+    }
+  }
+  return m;
+}
+
+TriMesh load_cc_by_wheelchair() {
+  const std::string entry = "blendswap-cc-by/wheelchair/wheelchair.obj";
+  const auto archive = sweethome3d_archive();
+  const std::string text = read_zip_entry(archive, entry);
+  TriMesh m;
+  std::istringstream in(text);
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line.rfind("v ", 0) == 0) {
+      std::istringstream ls(line.substr(2));
+      Eigen::Vector3f v;
+      if (!(ls >> v.x() >> v.y() >> v.z())) {
+        throw Error(archive.string() + ": " + entry + ":" + std::to_string(line_no) +
+                    ": bad vertex");
+      }
+      m.vertices.push_back(v * 0.01f);  // centimetres -> metres
+    } else if (line.rfind("f ", 0) == 0) {
+      std::istringstream ls(line.substr(2));
+      std::vector<unsigned> idx;
+      std::string token;
+      while (ls >> token) {
+        const long i = std::strtol(token.c_str(), nullptr, 10);
+        const long n = static_cast<long>(m.vertices.size());
+        const long resolved = i < 0 ? n + i : i - 1;
+        if (resolved < 0 || resolved >= n) {
+          throw Error(archive.string() + ": " + entry + ":" + std::to_string(line_no) +
+                      ": bad face");
+        }
+        idx.push_back(static_cast<unsigned>(resolved));
+      }
+      for (std::size_t k = 2; k < idx.size(); ++k)
+        m.triangles.push_back({idx[0], idx[k - 1], idx[k]});
+    }
+  }
+  if (m.vertices.empty() || m.triangles.empty()) {
+    throw Error(archive.string() + ": " + entry + ": no geometry");
+  }
+  Eigen::Vector3f lo = m.vertices[0], hi = m.vertices[0];
+  for (const auto& v : m.vertices) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  const Eigen::Vector3f shift(-(lo.x() + hi.x()) / 2, -lo.y(), -lo.z());
+  for (auto& v : m.vertices) v += shift;
+  return m;
+}
+
+}  // namespace wheelpose::body

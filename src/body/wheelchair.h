@@ -1,0 +1,79 @@
+#pragma once
+// Wheelchairs built from solid primitives (boxes and cylinders), so one description gives both a
+// render mesh and an exact inside test for body-vs-chair penetration. Three procedural types:
+// everyday manual, sport (cambered wheels, low back, no armrests) and power (base with motor and
+// battery, joystick, headrest); dimensions are fitted to the seated body and randomised.
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/random.h"
+
+namespace wheelpose::body {
+
+enum class WheelchairType { kManual, kSport, kPower };
+const char* wheelchair_type_name(WheelchairType type);
+WheelchairType wheelchair_type_from_name(const std::string& name);  // throws Error
+
+struct Primitive {
+  enum Kind { kBox, kCylinder } kind = kBox;
+  std::string part;  // "seat", "backrest", "rear_wheel_l", ...
+  Eigen::Vector3f centre = Eigen::Vector3f::Zero();
+  Eigen::Matrix3f axes = Eigen::Matrix3f::Identity();  // columns: local x, y, z; cylinder axis = x
+  Eigen::Vector3f half =
+      Eigen::Vector3f::Zero();  // box: half extents; cylinder: (half length, radius, radius)
+  int material = 0;             // index into Wheelchair::colours
+};
+
+struct Wheelchair {
+  WheelchairType type = WheelchairType::kManual;
+  std::vector<Primitive> parts;
+  std::vector<Eigen::Vector3f> colours;  // frame, upholstery, tyre, trim
+  float ground_y = 0;                    // floor height under the chair
+  nlohmann::ordered_json dimensions;     // what was chosen, for the parameters file
+};
+
+// What the chair is fitted to: the seated body's vertices (metres, posed) and joints.
+struct SeatFit {
+  float hip_width = 0.36f;      // across the hips/thighs
+  float thigh_length = 0.42f;   // hip to knee
+  float shin_length = 0.42f;    // knee to ankle
+  float seat_top = 0;           // lowest body point over the seat footprint
+  float back_z = -0.15f;        // rearmost body point above the seat
+  float feet_bottom = -0.5f;    // lowest foot point
+  float feet_z = 0.4f;          // mean foot z (footplate centre)
+  float armrest_limit = 0.25f;  // height above the seat top the arms leave free beside the hips
+  float head_back_z = -0.1f, head_y = 0.7f;  // back of the head and its height
+};
+SeatFit measure_seat_fit(const std::vector<Eigen::Vector3f>& vertices,
+                         const std::vector<int>& body_vertices, const Eigen::Vector3f& left_hip,
+                         const Eigen::Vector3f& right_hip, const Eigen::Vector3f& left_knee,
+                         const Eigen::Vector3f& left_ankle, const Eigen::Vector3f& head);
+
+Wheelchair make_wheelchair(WheelchairType type, const SeatFit& fit, RandomStream& stream);
+// A chair for nobody (scene object): fitted to an average adult.
+Wheelchair make_empty_wheelchair(WheelchairType type, RandomStream& stream);
+
+// Depth of `p` inside the primitive (<= 0 outside).
+float inside_depth(const Primitive& prim, const Eigen::Vector3f& p);
+// Deepest penetration of any of `points` into any part of the chair.
+float max_penetration(const Wheelchair& chair, const std::vector<Eigen::Vector3f>& points,
+                      std::string* part = nullptr);
+
+// Triangle mesh of all parts of one material.
+struct TriMesh {
+  std::vector<Eigen::Vector3f> vertices;
+  std::vector<Eigen::Vector3f> normals;
+  std::vector<std::array<unsigned, 3>> triangles;
+};
+TriMesh primitive_mesh(const Wheelchair& chair, int material);
+
+// The CC-BY "Wheel Chair" by bgamage (sweethome3d-furniture, BlendSwap-CC-BY.sh3f), in metres,
+// standing on y = 0, centred in x, its back at z = 0 facing +Z.
+TriMesh load_cc_by_wheelchair();
+inline constexpr const char* kCcByWheelchairCredit =
+    "\"Wheel Chair\" by bgamage (BlendSwap), CC-BY 3.0, via Debian package sweethome3d-furniture";
+
+}  // namespace wheelpose::body
