@@ -5,7 +5,8 @@
 'use strict';
 
 const token = new URLSearchParams(location.hash.slice(1)).get('token') || '';
-const state = { session: null, clips: [], index: 0, clipCache: new Map(), paused: false };
+const state = { session: null, clips: [], index: 0, clipCache: new Map(), paused: false,
+  saving: Promise.resolve(), pending: 0 };
 const $ = (id) => document.getElementById(id);
 
 async function api(method, path, body) {
@@ -142,13 +143,22 @@ async function saveAnswer(q, value) {
   rating[q] = value;
   state.session.ratings[clip] = rating;
   $('saved').textContent = 'Saving…';
+  // Send answers one after another: parallel requests could arrive out of order and leave an
+  // older choice stored (arrow keys change a radio answer several times a second).
+  const send = state.saving.then(() => api('PUT', '/api/rating', { clip, [q]: value }));
+  state.saving = send.catch(() => {});
+  ++state.pending;
   try {
-    await api('PUT', '/api/rating', { clip, [q]: value });
-    if (state.clips[state.index] === clip) $('saved').textContent = 'Answer saved.';
+    await send;
     showError('');
   } catch (e) {
-    $('saved').textContent = '';
     showError(e.message);
+  } finally {
+    --state.pending;
+  }
+  // "Saved" only once nothing is in flight, so it is true when it is announced.
+  if (state.pending === 0 && state.clips[state.index] === clip && $('error').hidden) {
+    $('saved').textContent = 'Answer saved.';
   }
 }
 
@@ -245,6 +255,7 @@ $('followup-form').addEventListener('submit', async (event) => {
   const answers = {};
   for (const name of ['criteria', 'frequency', 'missing']) answers[name] = form.elements[name].value;
   try {
+    await state.saving;  // every rating reaches the server before the study is marked finished
     await api('PUT', '/api/free-text', answers);
     await api('POST', '/api/finish');
     state.session.free_text = answers;
@@ -303,9 +314,10 @@ function startAnimation(clip) {
   let last = performance.now();
   let time = 0;
   const tick = (now) => {
-    if (!state.paused) time += (now - last) / 1000;
+    // rAF timestamps can precede the performance.now() taken at start: never step backwards.
+    if (!state.paused) time += Math.max(0, now - last) / 1000;
     last = now;
-    shownFrame = Math.floor(time * clip.fps) % clip.count;
+    shownFrame = Math.max(0, Math.floor(time * clip.fps)) % clip.count;
     for (const id of Object.keys(VIEWS)) drawView($(id), clip, clip.views[id], shownFrame);
     animationHandle = requestAnimationFrame(tick);
   };
