@@ -1,0 +1,20 @@
+#pragma once
+// Overlays of COCO annotations on their images: masks (polygons), boxes, skeletons; keypoints
+// drawn as in the paper's figures — visible (v=2) with a white outline, occluded (v=1) with a
+// black one — and a contact sheet of all overlays.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include "dataset/coco_file.h"
+
+namespace wheelpose::dataset {
+
+// Draws the first `n` images by id into out_dir/<file stem>.png and out_dir/contact_sheet.png.
+// Returns the number of images drawn. A missing or unreadable image is an error naming it.
+std::size_t visualize_coco(const json& root, const std::string& source,
+                           const std::filesystem::path& images_dir,
+                           const std::filesystem::path& out_dir, std::int64_t n);
+
+}  // namespace wheelpose::dataset
