@@ -49,6 +49,42 @@ Primitive tube(const std::string& part, Eigen::Vector3f a, Eigen::Vector3f b, fl
   return cylinder(part, (a + b) / 2, b - a, (b - a).norm() / 2, radius, kFrame);
 }
 
+// A ring of tubes (tyre, push rim) around `axis`, so wheels are open like spoked ones.
+void add_ring(std::vector<Primitive>& parts, const std::string& part, const Eigen::Vector3f& centre,
+              const Eigen::Vector3f& axis, float radius, float tube_radius, int material) {
+  constexpr int kSegments = 20;
+  const Primitive frame = cylinder(part, centre, axis, 0.01f, radius, material);
+  const Eigen::Vector3f u = frame.axes.col(1), w = frame.axes.col(2);
+  for (int k = 0; k < kSegments; ++k) {
+    const float a0 = 2 * kPi * k / kSegments, a1 = 2 * kPi * (k + 1) / kSegments;
+    const Eigen::Vector3f p0 = centre + radius * (std::cos(a0) * u + std::sin(a0) * w);
+    const Eigen::Vector3f p1 = centre + radius * (std::cos(a1) * u + std::sin(a1) * w);
+    // Slightly longer than the chord so neighbouring segments close the ring.
+    Primitive seg = cylinder(part, (p0 + p1) / 2, p1 - p0, (p1 - p0).norm() / 2 + tube_radius / 2,
+                             tube_radius, material);
+    parts.push_back(seg);
+  }
+}
+
+// Tyre, spokes, hub and (optionally) push rim of a wheel.
+void add_wheel(std::vector<Primitive>& parts, const std::string& suffix, const Eigen::Vector3f& hub,
+               const Eigen::Vector3f& axis, float radius, float tyre, bool push_rim, int spokes) {
+  add_ring(parts, "wheel" + suffix, hub, axis, radius - tyre, tyre, kTyre);
+  parts.push_back(cylinder("hub" + suffix, hub, axis, 0.03f, 0.035f, kTrim));
+  const Primitive frame = cylinder("", hub, axis, 0.01f, radius, kTrim);
+  for (int k = 0; k < spokes; ++k) {
+    const float a = 2 * kPi * k / spokes;
+    const Eigen::Vector3f dir = std::cos(a) * frame.axes.col(1) + std::sin(a) * frame.axes.col(2);
+    Primitive spoke =
+        tube("spoke" + suffix, hub + 0.035f * dir, hub + (radius - 2 * tyre) * dir, 0.004f);
+    spoke.material = kTrim;
+    parts.push_back(spoke);
+  }
+  if (push_rim)
+    add_ring(parts, "push_rim" + suffix, hub + axis.normalized() * 0.035f, axis, radius - 0.035f,
+             0.007f, kTrim);
+}
+
 Eigen::Vector3f random_colour(RandomStream& s, float lo, float hi) {
   return {static_cast<float>(s.uniform(lo, hi)), static_cast<float>(s.uniform(lo, hi)),
           static_cast<float>(s.uniform(lo, hi))};
@@ -101,11 +137,19 @@ SeatFit measure_seat_fit(const std::vector<Eigen::Vector3f>& v, const std::vecto
     }
   }
   f.hip_width = xmax - xmin;
-  const float seat_front = hip_z + 0.8f * f.thigh_length;
+  // The seat must end before the calves, which hang below the knees.
+  f.seat_front_limit = left_knee.z();
+  for (int i : body) {
+    const Eigen::Vector3f& p = v[i];
+    if (p.y() < left_knee.y() - 0.1f && p.z() > hip_z) {
+      f.seat_front_limit = std::min(f.seat_front_limit, p.z() - 0.01f);
+    }
+  }
+  const float seat_front = f.seat_front_limit;
   for (int i : body) {
     const Eigen::Vector3f& p = v[i];
     const bool over_seat = p.z() < seat_front && std::abs(p.x()) <= f.hip_width / 2 + 0.05f;
-    if (over_seat && p.y() < hip_y + 0.1f) f.seat_top = std::min(f.seat_top, p.y());
+    if (over_seat) f.seat_top = std::min(f.seat_top, p.y());
     if (p.y() < left_ankle.y() + 0.05f && p.z() > seat_front - 0.1f) {
       f.feet_bottom = std::min(f.feet_bottom, p.y());
       feet_z_sum += p.z();
@@ -141,10 +185,11 @@ Wheelchair make_wheelchair(WheelchairType type, const SeatFit& fit, RandomStream
   const bool power = type == WheelchairType::kPower;
   // Seat fitted to the body: width from the hips, depth from the thigh.
   const float seat_w = fit.hip_width + static_cast<float>(s.uniform(0.02, 0.06));
-  const float seat_d = fit.thigh_length * static_cast<float>(s.uniform(0.8, 0.92));
   const float gap = 0.003f;
   const float top = fit.seat_top - gap;
   const float back = fit.back_z - gap;
+  const float seat_d = std::min(fit.thigh_length * static_cast<float>(s.uniform(0.8, 0.92)),
+                                fit.seat_front_limit - back);
   const float front = back + seat_d;
   const float hw = seat_w / 2;
   const float cushion = power ? 0.08f : 0.05f;
@@ -185,18 +230,18 @@ Wheelchair make_wheelchair(WheelchairType type, const SeatFit& fit, RandomStream
 
   if (!power) {
     // Rear wheels with push rims; sport wheels are cambered (tops inward).
-    const float r = static_cast<float>(s.uniform(0.28, 0.33));
+    // Rear wheels reach 8-16 cm above the seat (the seated pose puts the seat low).
+    const float r =
+        std::clamp((top - ground + static_cast<float>(s.uniform(0.08, 0.16))) / 2, 0.22f, 0.33f);
     const float camber = sport ? static_cast<float>(s.uniform(12.0, 18.0)) * kPi / 180 : 0.0f;
     const float axle_z = back + static_cast<float>(s.uniform(0.0, 0.08));
     for (int side : {-1, 1}) {
       const std::string sfx = side < 0 ? "_r" : "_l";
-      // Axis tilted so the wheel's top leans toward the chair.
-      const Eigen::Vector3f axis(side * std::cos(camber), -std::sin(camber), 0);
+      // Axis tilted so the wheel's top leans toward the chair (negative camber).
+      const Eigen::Vector3f axis(side * std::cos(camber), std::sin(camber), 0);
       const float x = side * (hw + 0.05f + r * std::sin(camber));
       const Eigen::Vector3f hub(x, ground + r * std::cos(camber), axle_z);
-      c.parts.push_back(cylinder("rear_wheel" + sfx, hub, axis, 0.015f, r, kTyre));
-      c.parts.push_back(
-          cylinder("push_rim" + sfx, hub + axis * 0.035f, axis, 0.006f, r - 0.03f, kTrim));
+      add_wheel(c.parts, "_rear" + sfx, hub, axis, r, 0.018f, /*push_rim=*/true, sport ? 12 : 8);
       c.parts.push_back(tube("axle" + sfx, hub, {side * (hw + 0.012f), hub.y(), axle_z}, 0.01f));
       const float cr = static_cast<float>(sport ? s.uniform(0.03, 0.05) : s.uniform(0.06, 0.1));
       const float cz = front - 0.02f;
@@ -208,7 +253,8 @@ Wheelchair make_wheelchair(WheelchairType type, const SeatFit& fit, RandomStream
     dims["camber_deg"] = camber * 180 / kPi;
   } else {
     // Power base: motors, battery box, six small wheels.
-    const float base_top = std::min(top - cushion - 0.05f, ground + 0.35f);
+    const float base_top =
+        std::max(std::min(top - cushion - 0.05f, ground + 0.35f), ground + 0.14f);
     c.parts.push_back(
         box("base", {-hw + 0.03f, ground + 0.08f, back}, {hw - 0.03f, base_top, front}, kFrame));
     c.parts.push_back(box("battery", {-hw + 0.06f, ground + 0.1f, back - 0.18f},
@@ -264,6 +310,7 @@ Wheelchair make_empty_wheelchair(WheelchairType type, RandomStream& stream) {
   fit.back_z = -0.12f;
   fit.feet_bottom = -0.50f;
   fit.feet_z = 0.36f;
+  fit.seat_front_limit = 0.3f;
   fit.head_y = 0.62f;
   fit.head_back_z = -0.08f;
   return make_wheelchair(type, fit, stream);

@@ -37,14 +37,15 @@ struct Wheelchair {
 
 // What the chair is fitted to: the seated body's vertices (metres, posed) and joints.
 struct SeatFit {
-  float hip_width = 0.36f;      // across the hips/thighs
-  float thigh_length = 0.42f;   // hip to knee
-  float shin_length = 0.42f;    // knee to ankle
-  float seat_top = 0;           // lowest body point over the seat footprint
-  float back_z = -0.15f;        // rearmost body point above the seat
-  float feet_bottom = -0.5f;    // lowest foot point
-  float feet_z = 0.4f;          // mean foot z (footplate centre)
-  float armrest_limit = 0.25f;  // height above the seat top the arms leave free beside the hips
+  float hip_width = 0.36f;        // across the hips/thighs
+  float thigh_length = 0.42f;     // hip to knee
+  float shin_length = 0.42f;      // knee to ankle
+  float seat_top = 0;             // lowest body point over the seat footprint
+  float seat_front_limit = 0.3f;  // where the calves begin (z): the seat ends before
+  float back_z = -0.15f;          // rearmost body point above the seat
+  float feet_bottom = -0.5f;      // lowest foot point
+  float feet_z = 0.4f;            // mean foot z (footplate centre)
+  float armrest_limit = 0.25f;    // height above the seat top the arms leave free beside the hips
   float head_back_z = -0.1f, head_y = 0.7f;  // back of the head and its height
 };
 SeatFit measure_seat_fit(const std::vector<Eigen::Vector3f>& vertices,
