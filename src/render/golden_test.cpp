@@ -78,6 +78,18 @@ TEST_P(Golden, MatchesTheReference) {
                 << report << "\nreview, then run scripts/promote_golden.sh to accept";
 }
 
+// The tolerance must not hide real changes: a 20 % dimmer sun fails against the reference.
+TEST(GoldenTolerance, CatchesAVisibleLightingChange) {
+  scene::Scene s = testing::lit_sphere();
+  s.sun.intensity *= 0.8f;
+  cv::Mat actual;
+  cv::cvtColor(Renderer(s).render({.spp = 16}).rgb, actual, cv::COLOR_RGB2BGR);
+  const cv::Mat expected = cv::imread((golden_dir() / "lit_sphere.png").string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(expected.empty());
+  const Difference d = compare(actual, expected);
+  EXPECT_TRUE(d.mean > 1.5 || d.large_share > 0.01) << d.mean << " " << d.large_share;
+}
+
 INSTANTIATE_TEST_SUITE_P(Render, Golden, ::testing::ValuesIn(testing::golden_scenes()),
                          [](const auto& info) { return std::string(info.param.name); });
 

@@ -476,7 +476,9 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
         int n = 0;
         for (int k = 0; k < 8; ++k) n += shadow_valid[q][k] != 0;
         if (n == 0) continue;
-        rtcOccluded8(shadow_valid[q].data(), rtc_scene_, &incoherent, &shadow[q]);
+        // Sun rays are parallel and start close together: coherent.
+        rtcOccluded8(shadow_valid[q].data(), rtc_scene_, q == 0 ? &coherent : &incoherent,
+                     &shadow[q]);
         ray_count += n;
         for (int k = 0; k < 8; ++k) {
           // Embree sets tfar to −inf for occluded rays.

@@ -1,0 +1,204 @@
+// Renderer benchmarks: (a) ray throughput, (b) a frame like the paper's at 1280×720 — 8 people of
+// ≈ 40k triangles (subdivided capsules and a box as stand-ins for body and wheelchair), 25
+// textured occluders, a textured background wall, sun + 7 point lights and a sky — at 1 and
+// 4 spp, broken down into build, trace, shade, post and encode times (counters, in ms).
+//
+// Run: build/<dir>/bench/bench_render [--benchmark_filter=...]
+
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <string>
+
+#include "core/random.h"
+#include "render/frame_io.h"
+#include "render/renderer.h"
+#include "scene/primitives.h"
+
+namespace {
+
+using namespace wheelpose;
+
+// One seated-person stand-in: torso, head, upper/lower arms and legs as capsules, wheelchair box.
+void add_person(scene::Scene& s, int first_mesh, int material, const Eigen::Affine3f& at,
+                std::uint16_t id) {
+  struct Part {
+    int mesh;
+    Eigen::Vector3f pos;
+    Eigen::Vector3f rot_deg;
+  };
+  const Part parts[] = {
+      {0, {0, 0.95f, 0}, {0, 0, 0}},           {1, {0, 1.55f, 0}, {0, 0, 0}},
+      {2, {-0.25f, 1.1f, 0.1f}, {-30, 0, 10}}, {2, {0.25f, 1.1f, 0.1f}, {-30, 0, -10}},
+      {2, {-0.3f, 0.85f, 0.3f}, {-80, 0, 0}},  {2, {0.3f, 0.85f, 0.3f}, {-80, 0, 0}},
+      {3, {-0.12f, 0.55f, 0.25f}, {90, 0, 0}}, {3, {0.12f, 0.55f, 0.25f}, {90, 0, 0}},
+      {3, {-0.12f, 0.25f, 0.45f}, {0, 0, 0}},  {3, {0.12f, 0.25f, 0.45f}, {0, 0, 0}},
+      {4, {0, 0.45f, 0.1f}, {12.49f, 0, 0}},
+  };
+  for (const Part& p : parts) {
+    scene::Instance in;
+    in.mesh = first_mesh + p.mesh;
+    in.material = p.mesh == 4 ? 0 : material;
+    const float k = 3.14159265f / 180.0f;
+    const Eigen::Affine3f local = Eigen::Translation3f(p.pos) *
+                                  Eigen::AngleAxisf(p.rot_deg.z() * k, Eigen::Vector3f::UnitZ()) *
+                                  Eigen::AngleAxisf(p.rot_deg.x() * k, Eigen::Vector3f::UnitX());
+    in.transform = (at * local).matrix();
+    in.instance_id = id;
+    in.semantic_id = 1;
+    s.instances.push_back(in);
+  }
+}
+
+scene::Scene paper_scene() {
+  scene::Scene s;
+  s.seed = 539662031;
+  s.camera.position = Eigen::Vector3f(0, 0, 15);
+  s.camera.vfov_deg = 45;  // 1280×720 is the default
+  RandomStream rng(1, {"bench", "paper_scene"});
+
+  // Meshes 0–4: body parts and wheelchair (≈ 40k triangles per person), 5–6: occluders, 7: wall.
+  s.meshes.push_back(scene::make_capsule(0.18f, 0.2f, 40));        // torso
+  s.meshes.push_back(scene::make_sphere(0.12f, 40));               // head
+  s.meshes.push_back(scene::make_capsule(0.05f, 0.12f, 24));       // arm segment
+  s.meshes.push_back(scene::make_capsule(0.07f, 0.15f, 24));       // leg segment
+  s.meshes.push_back(scene::make_box({0.35f, 0.35f, 0.35f}, 16));  // wheelchair placeholder
+  s.meshes.push_back(scene::make_box({0.5f, 0.5f, 0.5f}, 2));
+  s.meshes.push_back(scene::make_sphere(0.5f, 24));
+  s.meshes.push_back(scene::make_box({15, 15, 0.05f}, 1));
+
+  scene::Material chair;
+  chair.diffuse = {0.2f, 0.2f, 0.22f};
+  chair.specular = 0.3f;
+  s.materials.push_back(chair);
+  const scene::TextureKind kinds[] = {scene::TextureKind::kNoise,   scene::TextureKind::kStripes,
+                                      scene::TextureKind::kChecker, scene::TextureKind::kFabric,
+                                      scene::TextureKind::kWood,    scene::TextureKind::kMarble};
+  for (int i = 0; i < 6; ++i) {
+    scene::Material m;
+    m.texture.kind = kinds[i];
+    m.texture.color_a =
+        Eigen::Vector3f(rng.uniform(0.2, 1), rng.uniform(0.2, 1), rng.uniform(0.2, 1));
+    m.texture.color_b = m.texture.color_a * 0.3f;
+    m.texture.scale = 4;
+    m.hue_offset_deg = static_cast<float>(rng.uniform(-180, 180));
+    s.materials.push_back(m);
+  }
+  scene::Material wall;
+  const std::string image =
+      std::string(WHEELPOSE_SHARED_DIR) + "/assets/makehuman/skins/litsphere_caucasian.png";
+  if (std::filesystem::exists(image)) {
+    wall.texture.kind = scene::TextureKind::kImage;
+    wall.texture.path = image;
+  } else {
+    wall.texture.kind = scene::TextureKind::kMarble;
+  }
+  s.materials.push_back(wall);
+
+  for (int p = 0; p < 8; ++p) {
+    const Eigen::Affine3f at =
+        Eigen::Translation3f(rng.uniform(-5, 5), rng.uniform(-4, 2), rng.uniform(-6, 4)) *
+        Eigen::AngleAxisf(static_cast<float>(rng.uniform(0, 6.283)), Eigen::Vector3f::UnitY()) *
+        Eigen::Scaling(static_cast<float>(rng.uniform(1.0, 2.5)));
+    add_person(s, 0, 1 + p % 6, at, static_cast<std::uint16_t>(p + 1));
+  }
+  for (int o = 0; o < 25; ++o) {
+    scene::Instance in;
+    in.mesh = 5 + o % 2;
+    in.material = 1 + o % 6;
+    const Eigen::Affine3f at =
+        Eigen::Translation3f(rng.uniform(-7.5, 7.5), rng.uniform(-7.5, 7.5), rng.uniform(-10, 4)) *
+        Eigen::AngleAxisf(static_cast<float>(rng.uniform(0, 6.283)),
+                          Eigen::Vector3f(1, 1, 0).normalized()) *
+        Eigen::Scaling(static_cast<float>(rng.uniform(1, 3)));
+    in.transform = at.matrix();
+    in.instance_id = static_cast<std::uint16_t>(100 + o);
+    in.semantic_id = 2;
+    s.instances.push_back(in);
+  }
+  scene::Instance w;
+  w.mesh = 7;
+  w.material = 7;
+  w.transform.topRightCorner<3, 1>() = Eigen::Vector3f(0, 0, -10);
+  w.instance_id = 200;
+  w.semantic_id = 3;
+  s.instances.push_back(w);
+
+  s.sun.solar = scene::SolarPosition{14.0f, 200.0f, 30.0f};
+  s.sun.intensity = 0.8f;
+  const Eigen::Vector3f lights[] = {{-10, 0, 3.5f}, {10, 0, 3.5f}, {0, 10, 3.5f}, {0, -11, 3.5f},
+                                    {0, 0, 13.5f},  {0, 0, -3.5f}, {0, 7, 2}};
+  for (const auto& p : lights) {
+    s.point_lights.push_back(
+        {p, Eigen::Vector3f(rng.uniform(0.4, 1), rng.uniform(0.4, 1), rng.uniform(0.4, 1)),
+         static_cast<float>(rng.uniform(5, 50)), 0.1f, rng.bernoulli(0.8)});
+  }
+  s.environment = scene::Environment{};
+  s.environment->color = {0.2f, 0.22f, 0.28f};
+  s.post.exposure_ev = 0.3f;
+  s.post.contrast = 10;
+  s.post.saturation = -10;
+  s.post.vignette = 0.3f;
+  s.post.film_grain = 0.2f;
+  return s;
+}
+
+const scene::Scene& cached_scene() {
+  static const scene::Scene s = paper_scene();
+  return s;
+}
+
+void BM_RayThroughput(benchmark::State& state) {
+  render::Renderer r(cached_scene());
+  long long rays = 0;
+  double seconds = 0;
+  for (auto _ : state) {
+    r.render({.spp = 1, .post = false});
+    rays += r.timings().rays;
+    seconds += (r.timings().trace_ms + r.timings().shade_ms) / 1000.0;
+  }
+  state.counters["Mrays/s"] = rays / seconds / 1e6;
+  state.counters["rays/frame"] =
+      static_cast<double>(rays) / static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_RayThroughput)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Whole frame: build, trace, shade, post, PNG encoding of all five buffers.
+void BM_PaperFrame(benchmark::State& state) {
+  const int spp = static_cast<int>(state.range(0));
+  double build = 0, trace = 0, shade = 0, post = 0, encode = 0;
+  long long rays = 0;
+  std::size_t triangles = 0;
+  for (const auto& in : cached_scene().instances)
+    triangles += cached_scene().meshes[in.mesh].triangles.size();
+  for (auto _ : state) {
+    render::Renderer r(cached_scene());
+    const render::FrameBuffers f = r.render({.spp = spp});
+    const auto t0 = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(render::encode_png(f.rgb));
+    benchmark::DoNotOptimize(render::encode_png(render::depth_to_millimetres(f.depth)));
+    benchmark::DoNotOptimize(render::encode_png(render::normals_to_u16(f.normals)));
+    benchmark::DoNotOptimize(render::encode_png(f.instance));
+    benchmark::DoNotOptimize(render::encode_png(f.semantic));
+    encode +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    build += r.build_ms();
+    trace += r.timings().trace_ms;
+    shade += r.timings().shade_ms;
+    post += r.timings().post_ms;
+    rays += r.timings().rays;
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["build_ms"] = build / n;
+  state.counters["trace_ms"] = trace / n;
+  state.counters["shade_ms"] = shade / n;
+  state.counters["post_ms"] = post / n;
+  state.counters["encode_ms"] = encode / n;
+  state.counters["Mrays/s"] = static_cast<double>(rays) / ((trace + shade) / 1000.0) / 1e6;
+  state.counters["triangles"] = static_cast<double>(triangles);
+}
+BENCHMARK(BM_PaperFrame)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();
