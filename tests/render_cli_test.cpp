@@ -103,7 +103,16 @@ TEST(RenderCli, BadScenesGiveOneClearLine) {
                    "s.json: /materials/0/texture/path: cannot read image");
   expect_bad_input(R"({"background": {"image": "empty.png"}})",
                    "/background/image: cannot read image");
-  expect_bad_input("{}", "spp", " --spp 0");
+}
+
+TEST(RenderCli, BadFlagsAreUsageErrors) {
+  const fs::path dir = fresh_temp_dir("render_cli_flags");
+  write(dir / "wall.json", kWall);
+  const auto r = run_wheelpose("render " + (dir / "wall.json").string() + " --out " +
+                               (dir / "out").string() + " --spp 0");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--spp"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
 TEST(RenderCli, MissingSceneFileIsBadInput) {
