@@ -9,7 +9,7 @@ packages=(
   libcpp-httplib-dev libsqlite3-dev libopencv-dev libgif-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libplplot-dev plplot-driver-cairo
-  chromium
+  chromium sweethome3d-furniture
 )
 
 missing=()

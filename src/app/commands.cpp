@@ -8,6 +8,7 @@ void attach_render(CLI::App& parent);
 void attach_review(CLI::App& parent);
 void attach_coco(CLI::App& parent);
 void attach_stats(CLI::App& parent);
+void attach_body(CLI::App& parent);
 
 const std::vector<Command>& command_table() {
   static const std::vector<Command> table = {
@@ -17,6 +18,7 @@ const std::vector<Command>& command_table() {
       {"review", attach_review},
       {"coco", attach_coco},
       {"stats", attach_stats},
+      {"body", attach_body},
   };
   return table;
 }

@@ -1,0 +1,97 @@
+// End-to-end tests of `wheelpose body`.
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_runner.h"
+
+namespace wheelpose::testing {
+namespace {
+
+const std::string kAssets = std::string(" --assets ") + WHEELPOSE_SHARED_DIR + "/assets";
+
+TEST(BodyCli, ExportWritesGlbAndJsonDeterministically) {
+  const auto dir = fresh_temp_dir("body_export");
+  const auto a = dir / "a.glb", b = dir / "b.glb";
+  for (const auto& out : {a, b}) {
+    const CliResult r = run_wheelpose(
+        "body export --seed 5 --params age=70 wheelchair=sport --out " + out.string() + kAssets);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  const std::string glb = read_text(a);
+  ASSERT_GT(glb.size(), 100000u);
+  EXPECT_EQ(glb.substr(0, 4), "glTF");
+  EXPECT_EQ(glb, read_text(b));
+  const auto json = nlohmann::json::parse(read_text(dir / "a.json"));
+  EXPECT_DOUBLE_EQ(json["params"]["age"].get<double>(), 70.0);
+  EXPECT_EQ(json["wheelchair"]["type"], "sport");
+  EXPECT_EQ(json["coco_keypoints"].size(), 17u);
+}
+
+TEST(BodyCli, SampleWritesCountPeople) {
+  const auto dir = fresh_temp_dir("body_sample");
+  const CliResult r =
+      run_wheelpose("body sample --count 2 --seed 3 --out " + dir.string() + kAssets);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_FALSE(read_text(dir / "person_0000.glb").empty());
+  EXPECT_FALSE(read_text(dir / "person_0001.json").empty());
+  EXPECT_NE(read_text(dir / "person_0000.json"), read_text(dir / "person_0001.json"));
+}
+
+TEST(BodyCli, BadInputsExitTwoWithOneLine) {
+  const auto dir = fresh_temp_dir("body_bad");
+  CliResult r = run_wheelpose("body export --seed 1 --params age=300 --out " +
+                              (dir / "x.glb").string() + kAssets);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("age"), std::string::npos);
+  r = run_wheelpose("body export --seed 1 --out " + (dir / "x.glb").string() +
+                    " --assets /nonexistent");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("base.obj"), std::string::npos);
+  r = run_wheelpose("body export --seed 1 --clip /nonexistent.json --out " +
+                    (dir / "x.glb").string() + kAssets);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.glb"));
+}
+
+TEST(BodyCli, EmptyWheelchair) {
+  const auto dir = fresh_temp_dir("body_empty");
+  const CliResult r = run_wheelpose(
+      "body export --seed 2 --empty-wheelchair --params "
+      "wheelchair=power --out " +
+      (dir / "chair.glb").string() + kAssets);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(read_text(dir / "chair.glb").substr(0, 4), "glTF");
+}
+
+}  // namespace
+}  // namespace wheelpose::testing
+
+namespace wheelpose::testing {
+namespace {
+
+TEST(BodyCli, PosesPersonByASeatedClipFrame) {
+  const auto dir = fresh_temp_dir("body_clip");
+  const std::string bvh = std::string(WHEELPOSE_SHARED_DIR) + "/data/bvh/131_01.bvh";
+  CliResult r =
+      run_wheelpose("motion convert " + bvh + " --out " + dir.string() + " --exports json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string clip = (dir / "131_01.json").string();
+  std::vector<nlohmann::json> wrists;
+  for (int frame : {0, 60}) {
+    const auto out = dir / ("f" + std::to_string(frame) + ".glb");
+    r = run_wheelpose("body export --seed 1 --clip " + clip + " --frame " + std::to_string(frame) +
+                      " --out " + out.string() + kAssets);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    auto json = nlohmann::json::parse(read_text(dir / ("f" + std::to_string(frame) + ".json")));
+    wrists.push_back(json["coco_keypoints"]["left_wrist"]);
+  }
+  EXPECT_NE(wrists[0], wrists[1]);  // the arm moves with the clip
+  r = run_wheelpose("body export --seed 1 --clip " + clip + " --frame 100000 --out " +
+                    (dir / "x.glb").string() + kAssets);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+}
+
+}  // namespace
+}  // namespace wheelpose::testing
