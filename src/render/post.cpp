@@ -127,14 +127,21 @@ cv::Mat apply_post(const cv::Mat& linear, const cv::Mat& depth, const scene::Pos
                    float focus_distance, std::uint64_t seed) {
   cv::Mat out = encode_srgb(apply_post_linear(linear, depth, p, focus_distance));
   if (p.film_grain > 0) {
-    // Grain in display space, strongest in the mid-tones, seeded per pixel.
+    // Grain in display space, strongest in the mid-tones. One stream per row (a row is never
+    // split between threads), so the result is the same for any thread count.
     const float amount = 24.0f * p.film_grain;
-    out.forEach<cv::Vec3b>([&](cv::Vec3b& c, const int* pos) {
-      RandomStream rng(seed, {"grain", static_cast<std::uint64_t>(pos[0]) * out.cols + pos[1]});
-      const float n = static_cast<float>(rng.normal(0.0, 1.0));
-      const float l = (c[0] + c[1] + c[2]) / (3.0f * 255.0f);
-      const float g = amount * n * (0.4f + 2.4f * l * (1 - l));
-      for (int i = 0; i < 3; ++i) c[i] = cv::saturate_cast<std::uint8_t>(c[i] + g);
+    cv::parallel_for_(cv::Range(0, out.rows), [&](const cv::Range& rows) {
+      for (int y = rows.start; y < rows.end; ++y) {
+        RandomStream rng(seed, {"grain", y});
+        cv::Vec3b* row = out.ptr<cv::Vec3b>(y);
+        for (int x = 0; x < out.cols; ++x) {
+          cv::Vec3b& c = row[x];
+          const float n = static_cast<float>(rng.normal(0.0, 1.0));
+          const float l = (c[0] + c[1] + c[2]) / (3.0f * 255.0f);
+          const float g = amount * n * (0.4f + 2.4f * l * (1 - l));
+          for (int i = 0; i < 3; ++i) c[i] = cv::saturate_cast<std::uint8_t>(c[i] + g);
+        }
+      }
     });
   }
   return out;
