@@ -21,7 +21,8 @@ std::string at(const std::string& array, std::size_t index) {
 }
 
 std::string number_text(double v) {
-  // Short, exact for the integers and halves that COCO files mostly hold.
+  // Integral values as integers (COCO files write 250 and 250.0 alike); others shortest exact.
+  if (std::fabs(v) < 1e15 && v == std::floor(v)) return std::to_string(static_cast<long long>(v));
   return json(v).dump();
 }
 
@@ -219,6 +220,8 @@ class Validator {
           }
         }
       }
+      // Without both sizes the geometry checks are skipped (the missing size is reported).
+      if (info.width == 0 || info.height == 0) info = ImageInfo{};
       if (iid) images_[*iid] = info;
     }
   }
@@ -239,7 +242,7 @@ class Validator {
         if (it == images_.end()) {
           add(Severity::kStructure, path + ".image_id", "no image has id " + std::to_string(*iid));
         } else {
-          image = &it->second;
+          image = it->second.width > 0 ? &it->second : nullptr;
         }
       }
       const CategoryInfo* category = nullptr;
