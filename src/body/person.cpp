@@ -95,6 +95,11 @@ PersonSpec sample_spec(std::uint64_t seed) {
   p.caucasian = c / sum;
   const double tone = 0.12 * p.african + 0.6 * p.asian + 0.8 * p.caucasian;
   p.skin_tone = std::clamp(tone + s.normal(0.0, 0.1), 0.0, 1.0);
+  // About one person in sixteen has a limb difference.
+  if (s.bernoulli(1.0 / 16)) {
+    const int limb = static_cast<int>(s.uniform_int(0, 3));
+    spec.limbs[limb] = s.bernoulli(0.5) ? Cut::kBelow : Cut::kAbove;
+  }
   const double u = s.uniform01();
   spec.wheelchair = u < 0.6    ? WheelchairType::kManual
                     : u < 0.75 ? WheelchairType::kSport
@@ -109,6 +114,9 @@ void apply_overrides(PersonSpec& spec, const std::vector<std::string>& overrides
     const std::string key = kv.substr(0, eq), value = kv.substr(eq + 1);
     if (key == "wheelchair") {
       spec.wheelchair = wheelchair_type_from_name(value);
+    } else if (key.ends_with("_leg") || key.ends_with("_arm")) {
+      const Limb limb = limb_from_name(key);
+      spec.limbs[static_cast<int>(limb)] = cut_from_name(limb, value);
     } else {
       spec.params.set(key, value);
     }
@@ -151,11 +159,34 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
   person.posed_bones = pose_bones(rig, person.rest_bones, pose);
   const std::vector<Eigen::Vector3f> posed = skin(rig, person.rest_bones, pose, morphed);
   const std::vector<int>& body = data.body_vertices();
-  person.vertices.reserve(body.size());
-  person.rest_vertices.reserve(body.size());
-  for (int v : body) {
-    person.vertices.push_back(posed[v]);
-    person.rest_vertices.push_back(morphed[v]);
+  {
+    std::vector<Eigen::Vector3f> rest_body;
+    rest_body.reserve(body.size());
+    for (int v : body) rest_body.push_back(morphed[v]);
+    const CutResult cut =
+        cut_limbs(rig, person.rest_bones, rest_body, body, data.body_triangles(), spec.limbs);
+    // Keep the referenced vertices only, then the cap centres (rim means).
+    std::vector<unsigned> remap(body.size() + cut.caps.size(), 0);
+    for (std::size_t i = 0; i < body.size(); ++i) {
+      if (cut.removed[i]) continue;
+      remap[i] = static_cast<unsigned>(person.vertices.size());
+      person.vertices.push_back(posed[body[i]]);
+      person.rest_vertices.push_back(morphed[body[i]]);
+    }
+    for (std::size_t c = 0; c < cut.caps.size(); ++c) {
+      Eigen::Vector3f p = Eigen::Vector3f::Zero(), r = Eigen::Vector3f::Zero();
+      for (unsigned v : cut.cap_rims[c]) {
+        p += posed[body[v]];
+        r += morphed[body[v]];
+      }
+      const float n = static_cast<float>(cut.cap_rims[c].size());
+      remap[cut.caps[c]] = static_cast<unsigned>(person.vertices.size());
+      person.vertices.push_back(p / n);
+      person.rest_vertices.push_back(r / n);
+    }
+    person.triangles.reserve(cut.triangles.size());
+    for (const auto& t : cut.triangles)
+      person.triangles.push_back({remap[t[0]], remap[t[1]], remap[t[2]]});
   }
   person.joints = skeleton_joints(rig, person.posed_bones);
   person.skin = skin_colour(spec.params.skin_tone);
@@ -188,6 +219,30 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
                  joint(motion::kRightKnee),
                  joint(motion::kLeftAnkle),
                  joint(motion::kRightAnkle)};
+  person.coco_present.fill(true);
+  const std::vector<int> absent = absent_joints(spec.limbs);
+  auto is_absent = [&](int j) {
+    return std::find(absent.begin(), absent.end(), j) != absent.end();
+  };
+  const int coco_joint[kCocoCount] = {-1,
+                                      -1,
+                                      -1,
+                                      -1,
+                                      -1,
+                                      motion::kLeftShoulder,
+                                      motion::kRightShoulder,
+                                      motion::kLeftElbow,
+                                      motion::kRightElbow,
+                                      motion::kLeftWrist,
+                                      motion::kRightWrist,
+                                      motion::kLeftHip,
+                                      motion::kRightHip,
+                                      motion::kLeftKnee,
+                                      motion::kRightKnee,
+                                      motion::kLeftAnkle,
+                                      motion::kRightAnkle};
+  for (int k = 0; k < kCocoCount; ++k)
+    person.coco_present[k] = coco_joint[k] < 0 || !is_absent(coco_joint[k]);
   const Eigen::Vector3f up = (joint(motion::kNeckBase) - joint(motion::kPelvis)).normalized();
   person.raised_hips = {joint(motion::kLeftHip) + 0.09f * up,
                         joint(motion::kRightHip) + 0.09f * up};
@@ -244,6 +299,17 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
   nlohmann::ordered_json kp;
   for (int k = 0; k < kCocoCount; ++k) kp[coco_names()[k]] = vec(person.coco[k]);
   d["coco_keypoints"] = kp;
+  nlohmann::ordered_json present = nlohmann::ordered_json::array();
+  for (int k = 0; k < kCocoCount; ++k) present.push_back(person.coco_present[k]);
+  d["coco_present"] = present;
+  nlohmann::ordered_json limbs;
+  for (int i = 0; i < 4; ++i) {
+    limbs[limb_name(static_cast<Limb>(i))] = cut_name(static_cast<Limb>(i), spec.limbs[i]);
+  }
+  d["limbs"] = limbs;
+  nlohmann::ordered_json absent_names = nlohmann::ordered_json::array();
+  for (int j : absent) absent_names.push_back(std::string(motion::joint_name(j)));
+  d["absent_joints"] = absent_names;
   d["raised_hips"] = {{"left_hip", vec(person.raised_hips[0])},
                       {"right_hip", vec(person.raised_hips[1])}};
   nlohmann::ordered_json joints;
@@ -386,13 +452,14 @@ void export_parts(SceneParts& parts, const fs::path& path) {
 
 }  // namespace
 
-void write_person_glb(const Person& person, const BodyData& data, const fs::path& path) {
+void write_person_glb(const Person& person, const BodyData& /*data*/, const fs::path& path) {
   SceneParts parts;
   parts.materials.push_back(make_material("skin", person.skin));
-  const auto normals = vertex_normals(person.vertices, data.body_triangles());
-  parts.meshes.push_back(make_ai_mesh("body", person.vertices, &normals, data.body_triangles(), 0));
+  const auto normals = vertex_normals(person.vertices, person.triangles);
+  parts.meshes.push_back(make_ai_mesh("body", person.vertices, &normals, person.triangles, 0));
   add_chair(parts, person.chair);
   for (int k = 0; k < kCocoCount; ++k) {
+    if (!person.coco_present[k]) continue;
     parts.markers.emplace_back(std::string("kp_") + coco_names()[k], person.coco[k]);
   }
   parts.markers.emplace_back("kp_left_hip_raised", person.raised_hips[0]);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "body/human.h"
+#include "body/limb.h"
 #include "body/rig.h"
 #include "body/wheelchair.h"
 #include "motion/clip.h"
@@ -46,11 +47,14 @@ struct PersonSpec {
   std::uint64_t seed = 0;
   // Clip pose (global joint rotations); the rest seated pose when absent.
   std::optional<motion::PoseRotations> pose;
+  LimbCuts limbs{};  // limb difference, none by default
 };
 
 // Random macro parameters and wheelchair type for `seed` (RandomStream(seed, {"body", ...})).
 PersonSpec sample_spec(std::uint64_t seed);
-// Applies "k=v" overrides (body parameters and wheelchair=manual|sport|power); throws Error.
+// Applies "k=v" overrides (body parameters, wheelchair=manual|sport|power,
+// left_leg/right_leg=none|below_knee|above_knee, left_arm/right_arm=none|below_elbow|above_elbow);
+// throws Error.
 void apply_overrides(PersonSpec& spec, const std::vector<std::string>& overrides);
 
 // Rest seated pose: thighs 35 degrees above horizontal, shins down, feet flat, upper arms down,
@@ -58,11 +62,13 @@ void apply_overrides(PersonSpec& spec, const std::vector<std::string>& overrides
 motion::PoseRotations rest_seated_pose();
 
 struct Person {
-  std::vector<Eigen::Vector3f> vertices;  // posed body vertices (body_vertices() order), metres
-  std::vector<Eigen::Vector3f> rest_vertices;  // morphed, unposed
+  std::vector<Eigen::Vector3f> vertices;           // posed visible body vertices, metres
+  std::vector<Eigen::Vector3f> rest_vertices;      // the same, morphed and unposed
+  std::vector<std::array<unsigned, 3>> triangles;  // over `vertices` (capped after limb cuts)
   BoneFrames rest_bones, posed_bones;
   motion::Pose joints;                           // our 23 joints on the posed body
   std::array<Eigen::Vector3f, kCocoCount> coco;  // COCO-17 keypoints
+  std::array<bool, kCocoCount> coco_present{};   // false beyond a limb cut (label v = 0)
   std::array<Eigen::Vector3f, 2> raised_hips;    // hips 9 cm up the torso (left, right)
   Eigen::Vector3f skin = Eigen::Vector3f::Ones();
   Wheelchair chair;

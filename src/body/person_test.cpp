@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
 #include <set>
 
 #include "body/test_data.h"
@@ -128,6 +129,56 @@ TEST(Wheelchair, CcByModelLoadsAtItsSize) {
   EXPECT_NEAR(hi.x() - lo.x(), 0.64f, 0.01f);
   EXPECT_NEAR(hi.y() - lo.y(), 0.91f, 0.01f);
   EXPECT_NEAR(hi.z() - lo.z(), 0.77f, 0.01f);
+}
+
+}  // namespace
+}  // namespace wheelpose::body
+
+namespace wheelpose::body {
+namespace {
+
+std::size_t open_edges(const std::vector<std::array<unsigned, 3>>& tris) {
+  std::map<std::pair<unsigned, unsigned>, int> count;
+  for (const auto& t : tris) {
+    for (int k = 0; k < 3; ++k) {
+      count[{std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])}]++;
+    }
+  }
+  std::size_t open = 0;
+  for (const auto& [edge, n] : count) open += n == 1;
+  return open;
+}
+
+TEST(LimbDifference, CutsCapsAndMarksJointsAbsent) {
+  PersonSpec whole = sample_spec(21);
+  whole.limbs = {};
+  const Person full = build_person(testing::body_data(), whole);
+  for (const char* cut : {"left_leg=below_knee", "left_leg=above_knee", "right_arm=below_elbow",
+                          "right_arm=above_elbow"}) {
+    PersonSpec spec = whole;
+    apply_overrides(spec, {cut});
+    const Person p = build_person(testing::body_data(), spec);
+    EXPECT_LT(p.vertices.size(), full.vertices.size() - 200) << cut;
+    // Caps close every opening: no more open edges than the uncut body has.
+    EXPECT_EQ(open_edges(p.triangles), open_edges(full.triangles)) << cut;
+    const bool leg = std::string(cut).find("leg") != std::string::npos;
+    const bool above = std::string(cut).find("above") != std::string::npos;
+    const int far_kp = leg ? 15 : 10;  // left_ankle / right_wrist
+    const int mid_kp = leg ? 13 : 8;   // left_knee / right_elbow
+    EXPECT_FALSE(p.coco_present[far_kp]) << cut;
+    EXPECT_EQ(p.coco_present[mid_kp], !above) << cut;
+    // Hardly anything is left where the removed hand or foot was (the hand lies near a thigh).
+    auto near = [&](const Person& q) {
+      int n = 0;
+      for (const auto& v : q.vertices) n += (v - p.coco[far_kp]).norm() < 0.05f;
+      return n;
+    };
+    EXPECT_LT(near(p) * 5, near(full)) << cut;
+    EXPECT_LT(max_penetration(p.chair, p.vertices), 0.01f) << cut;
+  }
+  PersonSpec bad = whole;
+  EXPECT_THROW(apply_overrides(bad, {"left_leg=below_elbow"}), Error);
+  EXPECT_THROW(apply_overrides(bad, {"tail_arm=none"}), Error);
 }
 
 }  // namespace
