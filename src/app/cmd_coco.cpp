@@ -110,6 +110,14 @@ void run_split(const CocoOptions& o) {
       for (std::size_t k = 0; k < ratios.size(); ++k) names.push_back("part" + std::to_string(k));
     }
   }
+  for (const auto& name : names) {
+    // Names become file names in --out; keep them plain.
+    if (name.empty() ||
+        name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                               "0123456789_-") != std::string::npos) {
+      throw Error("--names: '" + name + "' must be letters, digits, '_' or '-'");
+    }
+  }
   if (names.size() != ratios.size()) {
     throw Error("--names: " + std::to_string(names.size()) + " names for " +
                 std::to_string(ratios.size()) + " ratios");
