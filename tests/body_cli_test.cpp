@@ -63,6 +63,11 @@ TEST(BodyCli, EmptyWheelchair) {
       (dir / "chair.glb").string() + kAssets);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(read_text(dir / "chair.glb").substr(0, 4), "glTF");
+  const CliResult cc =
+      run_wheelpose("body export --cc-by-wheelchair --out " + (dir / "cc.glb").string());
+  ASSERT_EQ(cc.exit_code, 0) << cc.output;
+  EXPECT_NE(cc.output.find("bgamage"), std::string::npos);
+  EXPECT_GT(read_text(dir / "cc.glb").size(), 100000u);
 }
 
 }  // namespace

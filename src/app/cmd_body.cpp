@@ -30,6 +30,7 @@ struct BodyOptions {
   std::string out;
   int count = 1;
   bool empty = false;
+  bool cc_by = false;
 };
 
 fs::path json_beside(const fs::path& glb) {
@@ -53,6 +54,11 @@ void run_export(const BodyOptions& o) {
   if (o.out.empty()) throw Error("body export: --out is required");
   body::PersonSpec spec = body::sample_spec(o.seed);
   body::apply_overrides(spec, o.params);
+  if (o.cc_by) {
+    body::write_cc_by_wheelchair_glb(o.out);
+    spdlog::info("wrote {} (credit: {})", o.out, body::kCcByWheelchairCredit);
+    return;
+  }
   if (o.empty) {
     RandomStream stream(o.seed, {"body", "wheelchair"});
     const body::Wheelchair chair = body::make_empty_wheelchair(spec.wheelchair, stream);
@@ -112,6 +118,8 @@ void attach_body(CLI::App& parent) {
   exp->add_option("--clip", options->clip, "Seated clip JSON (wheelpose motion output)");
   exp->add_option("--frame", options->frame, "Frame of the clip");
   exp->add_flag("--empty-wheelchair", options->empty, "Only the wheelchair, nobody in it");
+  exp->add_flag("--cc-by-wheelchair", options->cc_by,
+                "Only the CC-BY \"Wheel Chair\" by bgamage (sweethome3d-furniture)");
   exp->callback([options] { run_export(*options); });
   CLI::App* sample = cmd->add_subcommand("sample", "N random people, glb + JSON each");
   common(sample);

@@ -473,4 +473,14 @@ void write_wheelchair_glb(const Wheelchair& chair, const fs::path& path) {
   export_parts(parts, path);
 }
 
+void write_cc_by_wheelchair_glb(const fs::path& path) {
+  const TriMesh mesh = load_cc_by_wheelchair();
+  SceneParts parts;
+  parts.materials.push_back(make_material("cc_by_wheelchair_material", {0.4f, 0.4f, 0.42f}));
+  const auto normals = vertex_normals(mesh.vertices, mesh.triangles);
+  parts.meshes.push_back(
+      make_ai_mesh("cc_by_wheelchair", mesh.vertices, &normals, mesh.triangles, 0));
+  export_parts(parts, path);
+}
+
 }  // namespace wheelpose::body

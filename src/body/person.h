@@ -83,5 +83,7 @@ void write_person_glb(const Person& person, const BodyData& data,
                       const std::filesystem::path& path);
 // glb of an empty wheelchair (scene object).
 void write_wheelchair_glb(const Wheelchair& chair, const std::filesystem::path& path);
+// glb of the CC-BY sweethome3d wheelchair (load_cc_by_wheelchair), one grey mesh.
+void write_cc_by_wheelchair_glb(const std::filesystem::path& path);
 
 }  // namespace wheelpose::body
