@@ -4,21 +4,21 @@ namespace wheelpose::app {
 
 void attach_motion(CLI::App& parent);
 void attach_eval(CLI::App& parent);
+void attach_body(CLI::App& parent);
 void attach_render(CLI::App& parent);
 void attach_review(CLI::App& parent);
 void attach_coco(CLI::App& parent);
 void attach_stats(CLI::App& parent);
-void attach_body(CLI::App& parent);
 
 const std::vector<Command>& command_table() {
   static const std::vector<Command> table = {
       {"motion", attach_motion},
       {"eval", attach_eval},
+      {"body", attach_body},
       {"render", attach_render},
       {"review", attach_review},
       {"coco", attach_coco},
       {"stats", attach_stats},
-      {"body", attach_body},
   };
   return table;
 }
