@@ -8,7 +8,7 @@ packages=(
   nlohmann-json3-dev libyaml-cpp-dev libcli11-dev libspdlog-dev libfmt-dev
   libcpp-httplib-dev libsqlite3-dev libopencv-dev libgif-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libplplot-dev plplot-driver-cairo
+  libplplot-dev plplot-driver-cairo libminizip-dev zlib1g-dev
   chromium sweethome3d-furniture
 )
 
