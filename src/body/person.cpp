@@ -321,6 +321,18 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
   return person;
 }
 
+std::vector<Eigen::Vector3f> vertex_normals(const std::vector<Eigen::Vector3f>& v,
+                                            const std::vector<std::array<unsigned, 3>>& tris) {
+  std::vector<Eigen::Vector3f> n(v.size(), Eigen::Vector3f::Zero());
+  for (const auto& t : tris) {
+    const Eigen::Vector3f f = (v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]);
+    for (unsigned i : t) n[i] += f;
+  }
+  for (auto& x : n)
+    x = x.squaredNorm() > 0 ? x.normalized().eval() : Eigen::Vector3f::UnitY().eval();
+  return n;
+}
+
 namespace {
 
 aiVector3D ai(const Eigen::Vector3f& v) { return aiVector3D(v.x(), v.y(), v.z()); }
@@ -355,18 +367,6 @@ aiMaterial* make_material(const std::string& name, const Eigen::Vector3f& colour
   const aiColor4D c(colour.x(), colour.y(), colour.z(), 1.0f);
   m->AddProperty(&c, 1, AI_MATKEY_COLOR_DIFFUSE);
   return m;
-}
-
-std::vector<Eigen::Vector3f> vertex_normals(const std::vector<Eigen::Vector3f>& v,
-                                            const std::vector<std::array<unsigned, 3>>& tris) {
-  std::vector<Eigen::Vector3f> n(v.size(), Eigen::Vector3f::Zero());
-  for (const auto& t : tris) {
-    const Eigen::Vector3f f = (v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]);
-    for (unsigned i : t) n[i] += f;
-  }
-  for (auto& x : n)
-    x = x.squaredNorm() > 0 ? x.normalized().eval() : Eigen::Vector3f::UnitY().eval();
-  return n;
 }
 
 std::uint32_t u32(const std::vector<std::uint8_t>& b, std::size_t at) {

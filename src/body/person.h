@@ -77,6 +77,10 @@ struct Person {
 
 Person build_person(const BodyData& data, const PersonSpec& spec);
 
+// Area-weighted unit vertex normals of a triangle mesh (+Y where a vertex has no area).
+std::vector<Eigen::Vector3f> vertex_normals(const std::vector<Eigen::Vector3f>& vertices,
+                                            const std::vector<std::array<unsigned, 3>>& triangles);
+
 // glb with meshes "body" and "wheelchair_<material>" and one empty node per keypoint; the floor
 // is at y = 0. Byte-identical for identical persons.
 void write_person_glb(const Person& person, const BodyData& data,
