@@ -1,0 +1,86 @@
+#pragma once
+// What the randomizers decide for one frame, as plain data and before any mesh exists. The frame
+// builder (frame_builder.h) turns a draft into a renderable Scene plus the people to label.
+
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "body/person.h"
+#include "scene/scene.h"
+
+namespace wheelpose::generate {
+
+enum class EnvironmentKind { kWall, kRoom };
+
+// A background occluder, or a piece of furniture in a room: a primitive or a loaded model.
+struct ObjectDraft {
+  std::string shape = "box";  // "box", "sphere", "capsule", "cylinder"
+  Eigen::Vector3f position = Eigen::Vector3f::Zero();
+  Eigen::Quaternionf rotation = Eigen::Quaternionf::Identity();
+  Eigen::Vector3f scale = Eigen::Vector3f::Ones();  // multiplies a unit-sized shape (1 m)
+  scene::Material material;
+};
+
+// Garment colours and patterns of one person (the body mesh is split by nearest bone).
+struct Outfit {
+  scene::Material top, bottom, shoes;
+  bool long_sleeves = true;
+  bool long_trousers = true;
+};
+
+struct PersonDraft {
+  int pool_slot = 0;  // which person of the current pool
+  body::PersonSpec spec;
+  Outfit outfit;
+  int clip = -1;       // index into the motion clips; -1 = rest seated pose
+  double time = 0.0;   // seconds into the clip
+  std::optional<std::array<Eigen::Vector3f, 4>> chair_colours;  // frame, upholstery, tyre, trim
+  // Placement: world = position + rotation · (scale · (p − anchor)), where anchor is the
+  // person's pelvis over the floor (x, z) at floor height 0 — so scale keeps the wheels on the
+  // floor in rooms and the pelvis at `position` on the wall layout (see frame_builder.cpp).
+  Eigen::Vector3f position = Eigen::Vector3f::Zero();
+  Eigen::Quaternionf rotation = Eigen::Quaternionf::Identity();
+  float scale = 1.0f;
+  bool placed = false;  // a placement randomizer has set the transform
+};
+
+struct EmptyChairDraft {
+  body::WheelchairType type = body::WheelchairType::kManual;
+  std::uint64_t seed = 0;
+  Eigen::Vector3f position = Eigen::Vector3f::Zero();
+  Eigen::Quaternionf rotation = Eigen::Quaternionf::Identity();
+  float scale = 1.0f;
+};
+
+struct RoomDraft {
+  Eigen::Vector2f size = Eigen::Vector2f(8.0f, 8.0f);  // floor x, z extent (metres)
+  float height = 2.8f;
+  scene::Material floor, walls;
+};
+
+struct FrameDraft {
+  std::int64_t index = 0;  // global frame index
+  std::uint64_t seed = 0;  // scenario seed
+  EnvironmentKind environment = EnvironmentKind::kWall;
+  RoomDraft room;
+  scene::Material wall;  // the textured wall behind everything (wall layout)
+  float wall_z = -10.0f;
+  scene::Camera camera;
+  // The authors sampled a focal length that did not drive projection (the FOV did); kept as
+  // metadata only.
+  float nominal_focal_length_mm = 0.0f;
+  scene::Sun sun;
+  std::vector<scene::PointLight> lights;
+  std::optional<scene::Environment> sky;
+  scene::PostProcess post;
+  scene::Background background;
+  std::vector<ObjectDraft> objects;
+  std::vector<PersonDraft> people;
+  std::vector<EmptyChairDraft> empty_chairs;
+};
+
+}  // namespace wheelpose::generate

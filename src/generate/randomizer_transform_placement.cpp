@@ -1,0 +1,82 @@
+// TransformPlacement: position, orientation and size of the generated people.
+
+#include "generate/randomizer.h"
+
+namespace wheelpose::generate {
+namespace {
+
+class TransformPlacement final : public Randomizer {
+ public:
+  explicit TransformPlacement(const ConfigNode* c)
+      : x_(sampler_or(c, "x", ScalarSampler::uniform(-7.5, 7.5))),
+        y_(sampler_or(c, "y", ScalarSampler::uniform(-7.5, 7.5))),
+        z_(sampler_or(c, "z", ScalarSampler::uniform(-4, 1))),
+        rx_(sampler_or(c, "rotation_x", ScalarSampler::uniform(0, 20))),
+        ry_(sampler_or(c, "rotation_y", ScalarSampler::uniform(0, 360))),
+        rz_(sampler_or(c, "rotation_z", ScalarSampler::uniform(0, 20))),
+        size_(sampler_or(c, "size", ScalarSampler::uniform(0.5, 3), 0.01, 100)),
+        room_separation_(number_or(c, "room_separation", 1.2, 0.3, 100)) {}
+
+  void apply(FrameDraft& f, RandomStream& rng, const RandomizerContext&) const override {
+    if (f.environment == EnvironmentKind::kRoom) {
+      place_in_room(f, rng);
+      return;
+    }
+    for (PersonDraft& p : f.people) {
+      p.position = Eigen::Vector3f(static_cast<float>(x_.sample(rng)),
+                                   static_cast<float>(y_.sample(rng)),
+                                   static_cast<float>(z_.sample(rng)));
+      const Eigen::Vector3d deg(rx_.sample(rng), ry_.sample(rng), rz_.sample(rng));
+      p.rotation = euler_xyz_extrinsic(deg * (M_PI / 180.0)).cast<float>();
+      p.scale = static_cast<float>(size_.sample(rng));
+      p.placed = true;
+    }
+  }
+
+  nlohmann::ordered_json parameters() const override {
+    return {{"x", x_.describe()},
+            {"y", y_.describe()},
+            {"z", z_.describe()},
+            {"rotation_x", rx_.describe()},
+            {"rotation_y", ry_.describe()},
+            {"rotation_z", rz_.describe()},
+            {"size", size_.describe()},
+            {"room_separation", room_separation_}};
+  }
+
+ private:
+  // Wheels on the floor, upright, at least `room_separation` apart in the middle of the room;
+  // people who do not fit are left out.
+  void place_in_room(FrameDraft& f, RandomStream& rng) const {
+    const float w = f.room.size.x() * 0.6f, d = f.room.size.y() * 0.6f;
+    const auto points = poisson_disk(w, d, static_cast<float>(room_separation_), rng);
+    if (f.people.size() > points.size()) f.people.resize(points.size());
+    for (std::size_t i = 0; i < f.people.size(); ++i) {
+      PersonDraft& p = f.people[i];
+      p.position = Eigen::Vector3f(points[i].x() - w / 2, 0.0f, points[i].y() - d / 2);
+      p.rotation = Eigen::Quaternionf(
+          Eigen::AngleAxisf(static_cast<float>(rng.uniform(0, 2 * M_PI)), Eigen::Vector3f::UnitY()));
+      p.scale = 1.0f;
+      p.placed = true;
+    }
+  }
+
+  ScalarSampler x_, y_, z_, rx_, ry_, rz_, size_;
+  double room_separation_;
+};
+
+}  // namespace
+
+extern const RandomizerEntry kTransformPlacementRandomizer = {
+    "TransformPlacement",
+    "Wall layout (paper): each person's pelvis at (`x`, `y`, `z`) = (U(−7.5, 7.5), U(−7.5, 7.5), "
+    "U(−4, 1)) m, rotated by Euler angles `rotation_x` U(0, 20), `rotation_y` U(0, 360), "
+    "`rotation_z` U(0, 20) degrees, scaled uniformly by `size` U(0.5, 3) (the authors' people "
+    "float and may intersect). Room layout: wheels on the floor, upright, random heading, "
+    "Poisson-disk points `room_separation` = 1.2 m apart in the middle 60 % of the room, "
+    "true size; people beyond the points that fit are left out.",
+    true, [](const ConfigNode* c) -> std::unique_ptr<Randomizer> {
+      return std::make_unique<TransformPlacement>(c);
+    }};
+
+}  // namespace wheelpose::generate

@@ -1,0 +1,63 @@
+// Wheelchair: type and colours of each person's chair.
+
+#include "generate/randomizer.h"
+
+namespace wheelpose::generate {
+namespace {
+
+class WheelchairRandomizer final : public Randomizer {
+ public:
+  explicit WheelchairRandomizer(const ConfigNode* c)
+      : manual_(number_or(c, "manual_weight", 0.6, 0, 1e6)),
+        sport_(number_or(c, "sport_weight", 0.15, 0, 1e6)),
+        power_(number_or(c, "power_weight", 0.25, 0, 1e6)) {
+    if (manual_ + sport_ + power_ <= 0) c->fail("the three weights add up to 0");
+  }
+
+  void apply(FrameDraft& f, RandomStream&, const RandomizerContext&) const override {
+    for (PersonDraft& p : f.people) {
+      RandomStream member(p.spec.seed, {"wheelchair_type"});
+      p.spec.wheelchair = pick(member);
+      p.chair_colours = colours(member);
+    }
+  }
+
+  body::WheelchairType pick(RandomStream& rng) const {
+    const double u = rng.uniform01() * (manual_ + sport_ + power_);
+    return u < manual_           ? body::WheelchairType::kManual
+           : u < manual_ + sport_ ? body::WheelchairType::kSport
+                                  : body::WheelchairType::kPower;
+  }
+
+  static std::array<Eigen::Vector3f, 4> colours(RandomStream& rng) {
+    auto c = [&rng](double lo, double hi) {
+      return Eigen::Vector3f(static_cast<float>(rng.uniform(lo, hi)),
+                             static_cast<float>(rng.uniform(lo, hi)),
+                             static_cast<float>(rng.uniform(lo, hi)));
+    };
+    const float tyre = static_cast<float>(rng.uniform(0.02, 0.12));
+    return {c(0.05, 0.9), c(0.02, 0.4), Eigen::Vector3f::Constant(tyre), c(0.3, 0.8)};
+  }
+
+  nlohmann::ordered_json parameters() const override {
+    return {{"manual_weight", manual_}, {"sport_weight", sport_}, {"power_weight", power_}};
+  }
+
+ private:
+  double manual_, sport_, power_;
+};
+
+}  // namespace
+
+extern const RandomizerEntry kWheelchairRandomizer = {
+    "Wheelchair",
+    "Chooses each person's wheelchair type with weights `manual_weight` 0.6, `sport_weight` "
+    "0.15, `power_weight` 0.25, and its colours (frame U(0.05, 0.9), upholstery U(0.02, 0.4), "
+    "tyres dark grey, trim U(0.3, 0.8) per channel). Dimensions are fitted to the body by the "
+    "body stage. Fixed per pool member. New in WheelPose (the authors' chair was a cube "
+    "placeholder).",
+    true, [](const ConfigNode* c) -> std::unique_ptr<Randomizer> {
+      return std::make_unique<WheelchairRandomizer>(c);
+    }};
+
+}  // namespace wheelpose::generate
