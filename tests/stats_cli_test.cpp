@@ -43,16 +43,18 @@ json small_dataset() {
   // Person faces +Z with left = +X, so "right" is -X.
   const double cx = -h * std::sin(az), cy = 1.5 + d * std::sin(el), cz = h * std::cos(az);
   json extrinsics = {1, 0, 0, cx, 0, 1, 0, cy, 0, 0, 1, cz, 0, 0, 0, 1};
+  // keypoints_3d are in camera space: world minus the camera position (no rotation).
   json k3 = json::array();
+  auto add = [&](double x, double y, double z) { k3.insert(k3.end(), {x - cx, y - cy, z - cz}); };
   for (int k = 0; k < 17; ++k) {
     if (k == 0)
-      k3.insert(k3.end(), {0.0, 1.5, 0.0});
+      add(0.0, 1.5, 0.0);
     else if (k == 11)
-      k3.insert(k3.end(), {0.1, 1.0, 0.0});  // left hip
+      add(0.1, 1.0, 0.0);  // left hip
     else if (k == 12)
-      k3.insert(k3.end(), {-0.1, 1.0, 0.0});  // right hip
+      add(-0.1, 1.0, 0.0);  // right hip
     else
-      k3.insert(k3.end(), {0.0, 1.2, 0.0});
+      add(0.0, 1.2, 0.0);
   }
   json a = {{"id", 1},
             {"image_id", 1},

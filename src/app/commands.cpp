@@ -6,6 +6,7 @@ void attach_motion(CLI::App& parent);
 void attach_eval(CLI::App& parent);
 void attach_body(CLI::App& parent);
 void attach_render(CLI::App& parent);
+void attach_generate(CLI::App& parent);
 void attach_review(CLI::App& parent);
 void attach_coco(CLI::App& parent);
 void attach_stats(CLI::App& parent);
@@ -16,6 +17,7 @@ const std::vector<Command>& command_table() {
       {"eval", attach_eval},
       {"body", attach_body},
       {"render", attach_render},
+      {"generate", attach_generate},
       {"review", attach_review},
       {"coco", attach_coco},
       {"stats", attach_stats},

@@ -228,6 +228,7 @@ DatasetStats compute_stats(const json& root, const std::string& source, const st
     bool has_camera;
     double cx, cy, cz;
     std::int64_t people;
+    std::array<double, 9> rotation{};  // camera → world, row-major
   };
   std::unordered_map<std::int64_t, ImageInfo> images;
   std::int64_t images_with_camera = 0;
@@ -248,6 +249,8 @@ DatasetStats compute_stats(const json& root, const std::string& source, const st
         info.cx = e[3].get<double>();
         info.cy = e[7].get<double>();
         info.cz = e[11].get<double>();
+        for (int r = 0; r < 3; ++r)
+          for (int c2 = 0; c2 < 3; ++c2) info.rotation[3 * r + c2] = e[4 * r + c2].get<double>();
         ++images_with_camera;
       }
     }
@@ -293,8 +296,13 @@ DatasetStats compute_stats(const json& root, const std::string& source, const st
         cam.left_hip < 0 || cam.right_hip < 0) {
       continue;
     }
+    // keypoints_3d are in camera space; the extrinsics take them to the world.
     const std::vector<double> p = numbers(*k3);
-    auto P = [&](int k, int axis) { return p[3 * k + axis]; };
+    auto P = [&](int k, int axis) {
+      const double t = axis == 0 ? image.cx : axis == 1 ? image.cy : image.cz;
+      const double* row = &image.rotation[3 * axis];
+      return t + row[0] * p[3 * k] + row[1] * p[3 * k + 1] + row[2] * p[3 * k + 2];
+    };
     const double dx = image.cx - P(cam.nose, 0), dy = image.cy - P(cam.nose, 1),
                  dz = image.cz - P(cam.nose, 2);
     double lx = P(cam.left_hip, 0) - P(cam.right_hip, 0);

@@ -58,7 +58,20 @@ KeypointTemplate parse_keypoint_template(std::string_view json_text, const std::
     if (!k.contains("sigma") || !k["sigma"].is_number()) {
       fail(source, where + ".sigma", "expected a number");
     }
-    KeypointInfo info{k["name"].get<std::string>(), k["sigma"].get<double>()};
+    KeypointInfo info;
+    info.name = k["name"].get<std::string>();
+    info.sigma = k["sigma"].get<double>();
+    if (k.contains("occlusion_tolerance_m")) {
+      const json& tol = k["occlusion_tolerance_m"];
+      if (!tol.is_number() || !(tol.get<double>() >= 0.0)) {
+        fail(source, where + ".occlusion_tolerance_m", "expected a non-negative number");
+      }
+      info.occlusion_tolerance_m = tol.get<double>();
+    }
+    if (k.contains("anchor")) {
+      if (!k["anchor"].is_string()) fail(source, where + ".anchor", "expected a string");
+      info.anchor = k["anchor"].get<std::string>();
+    }
     // A zero sigma would divide by zero in OKS.
     if (!std::isfinite(info.sigma) || info.sigma <= 0.0) {
       fail(source, where + ".sigma", "must be a positive finite number");
@@ -117,6 +130,10 @@ KeypointTemplate parse_keypoint_template(std::string_view json_text, const std::
 KeypointTemplate load_keypoint_template(const std::string& name_or_path) {
   if (name_or_path == "coco17") {
     return parse_keypoint_template(builtin_coco17_json(), "<built-in coco17 template>");
+  }
+  if (name_or_path == "coco17-raised-hips") {
+    return parse_keypoint_template(builtin_coco17_raised_hips_json(),
+                                   "<built-in coco17-raised-hips template>");
   }
   return parse_keypoint_template(read_file(name_or_path), name_or_path);
 }

@@ -15,6 +15,10 @@ namespace wheelpose::eval {
 struct KeypointInfo {
   std::string name;
   double sigma = 0.0;
+  // Used by scene generation (optional here): how far in front of the point, in metres, the
+  // first surface may be before the point counts as occluded; where on the body it sits.
+  double occlusion_tolerance_m = 0.0;
+  std::string anchor;
 };
 
 struct KeypointGroup {
@@ -36,10 +40,12 @@ struct KeypointTemplate {
 // Parses template JSON text; `source` names it in error messages.
 KeypointTemplate parse_keypoint_template(std::string_view json_text, const std::string& source);
 
-// "coco17" selects the built-in COCO template; anything else is read as a file path.
+// "coco17" and "coco17-raised-hips" select the built-in templates (data/keypoints/); anything
+// else is read as a file path.
 KeypointTemplate load_keypoint_template(const std::string& name_or_path);
 
-// The text of data/keypoints/coco17.json, compiled in.
+// The texts of data/keypoints/coco17.json and coco17-raised-hips.json, compiled in.
 std::string_view builtin_coco17_json();
+std::string_view builtin_coco17_raised_hips_json();
 
 }  // namespace wheelpose::eval

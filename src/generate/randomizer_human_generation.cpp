@@ -70,7 +70,7 @@ class HumanGeneration final : public Randomizer {
       p.pool_slot = slots[i];
       // A pool member is a pure function of (seed, pool, slot): the same person in every frame
       // of the pool, whichever frames a shard renders.
-      RandomStream member(f.seed, {"pool", pool, p.pool_slot});
+      RandomStream member(f.seed, {"pool", static_cast<std::uint64_t>(pool), p.pool_slot});
       p.spec = body::sample_spec(member.next_u64());
       p.spec.limbs = {};  // LimbDifference decides
       body::MacroParams& m = p.spec.params;

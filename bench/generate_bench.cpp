@@ -1,0 +1,71 @@
+// `wheelpose generate` throughput and memory.
+//   BM_GeneratePaperPreset: the paper preset (1280x720, 4 spp, 5-12 people, JPEG, all labels)
+//     over 8 frames on every core; counter images_per_s.
+//   BM_GeneratePeakRss/N: N frames at 320x180, 1 spp; counter peak_rss_mb (VmHWM after the run;
+//     runs in increasing N, so a flat figure means memory does not grow with the frame count).
+// Run: build/release/bench/bench_generate
+
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "core/config.h"
+#include "generate/runner.h"
+#include "generate/scenario.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+double peak_rss_mb() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  }
+  return 0;
+}
+
+wheelpose::generate::RunOptions options(const std::string& name, std::int64_t frames) {
+  wheelpose::generate::RunOptions o;
+  o.out = fs::temp_directory_path() / ("wheelpose_bench_" + name);
+  fs::remove_all(o.out);
+  o.frames = frames;
+  o.seed = 1;
+  o.assets = fs::path(WHEELPOSE_SHARED_DIR) / "assets";
+  return o;
+}
+
+void BM_GeneratePaperPreset(benchmark::State& state) {
+  const auto scenario = wheelpose::generate::Scenario::defaults();
+  for (auto _ : state) {
+    const auto o = options("paper", state.range(0));
+    const auto summary = wheelpose::generate::run_generate(scenario, o);
+    state.SetIterationTime(summary.seconds);
+    state.counters["images_per_s"] = static_cast<double>(summary.rendered) / summary.seconds;
+    state.counters["people_per_image"] =
+        static_cast<double>(summary.annotations) / static_cast<double>(summary.images);
+    fs::remove_all(o.out);
+  }
+}
+BENCHMARK(BM_GeneratePaperPreset)->Arg(8)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
+
+void BM_GeneratePeakRss(benchmark::State& state) {
+  const auto scenario = wheelpose::generate::Scenario::from_config(wheelpose::ConfigNode::load_string(
+      "image: {width: 320, height: 180, spp: 1}\n", "<bench>"));
+  for (auto _ : state) {
+    const auto o = options("rss", state.range(0));
+    const auto summary = wheelpose::generate::run_generate(scenario, o);
+    state.SetIterationTime(summary.seconds);
+    state.counters["images_per_s"] = static_cast<double>(summary.rendered) / summary.seconds;
+    state.counters["peak_rss_mb"] = peak_rss_mb();
+    fs::remove_all(o.out);
+  }
+}
+BENCHMARK(BM_GeneratePeakRss)->Arg(200)->Arg(2000)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

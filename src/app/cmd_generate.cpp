@@ -1,0 +1,149 @@
+// `wheelpose generate`: domain-randomized frames of wheelchair users with COCO keypoint labels.
+
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "core/error.h"
+#include "generate/runner.h"
+#include "generate/scenario.h"
+
+namespace wheelpose::app {
+namespace {
+
+struct GenerateCommandOptions {
+  std::string config;
+  std::string out;
+  std::int64_t frames = 100;
+  std::uint64_t seed = 0;
+  std::string shard = "0/1";
+  int threads = 0;
+  std::string format = "jpg";
+  bool resume = false;
+  std::string motions;
+  std::string clips_from;
+  std::string assets;
+  bool list_randomizers = false;
+};
+
+std::pair<int, int> parse_shard(const std::string& text) {
+  const auto slash = text.find('/');
+  try {
+    if (slash == std::string::npos) throw std::invalid_argument("no slash");
+    std::size_t used_i = 0, used_n = 0;
+    const int i = std::stoi(text.substr(0, slash), &used_i);
+    const int n = std::stoi(text.substr(slash + 1), &used_n);
+    if (used_i != slash || used_n != text.size() - slash - 1 || n < 1 || i < 0 || i >= n)
+      throw std::invalid_argument("range");
+    return {i, n};
+  } catch (const std::exception&) {
+    throw Error("--shard '" + text + "': expected i/N with 0 <= i < N, e.g. 0/4");
+  }
+}
+
+// A bar with rate and ETA on a terminal; a line every 10 % (or 30 s) otherwise.
+class Progress {
+ public:
+  Progress() : tty_(::isatty(STDERR_FILENO) != 0), start_(std::chrono::steady_clock::now()) {}
+
+  void operator()(std::int64_t done, std::int64_t total) {
+    if (first_) {
+      first_ = false;
+      first_done_ = done;
+    }
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const double rate = elapsed > 0 ? static_cast<double>(done - first_done_) / elapsed : 0;
+    const double eta = rate > 0 ? static_cast<double>(total - done) / rate : 0;
+    if (tty_) {
+      const int width = 30;
+      const int filled = total > 0 ? static_cast<int>(width * done / total) : width;
+      std::fprintf(stderr, "\r[%s%s] %lld/%lld  %.2f img/s  ETA %.0f s ",
+                   std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(),
+                   static_cast<long long>(done), static_cast<long long>(total), rate, eta);
+      if (done == total) std::fprintf(stderr, "\n");
+      std::fflush(stderr);
+      return;
+    }
+    const std::int64_t decile = total > 0 ? 10 * done / total : 10;
+    if (decile > last_decile_ || elapsed - last_line_ >= 30 || done == total) {
+      last_decile_ = decile;
+      last_line_ = elapsed;
+      spdlog::info("generate: {}/{} frames, {:.2f} images/s, ETA {:.0f} s", done, total, rate, eta);
+    }
+  }
+
+ private:
+  bool tty_;
+  std::chrono::steady_clock::time_point start_;
+  bool first_ = true;
+  std::int64_t first_done_ = 0, last_decile_ = -1;
+  double last_line_ = 0;
+};
+
+void run(const GenerateCommandOptions& o) {
+  if (o.list_randomizers) {
+    std::cout << generate::randomizer_reference_markdown();
+    return;
+  }
+  if (o.out.empty()) throw Error("--out is required");
+  const generate::Scenario scenario =
+      o.config.empty() ? generate::Scenario::defaults() : generate::Scenario::from_file(o.config);
+  generate::RunOptions run;
+  run.out = o.out;
+  run.frames = o.frames;
+  run.seed = o.seed;
+  std::tie(run.shard_index, run.shard_count) = parse_shard(o.shard);
+  run.threads = o.threads;
+  run.format = o.format;
+  run.resume = o.resume;
+  run.motions.folder = o.motions;
+  run.motions.clips_from = o.clips_from;
+  if (!o.assets.empty()) run.assets = o.assets;
+  Progress progress;
+  const generate::RunSummary s = generate::run_generate(
+      scenario, run, [&progress](std::int64_t done, std::int64_t total) { progress(done, total); });
+  spdlog::info(
+      "generate: frames {}..{} ({} rendered, {} already done) in {:.1f} s ({:.2f} images/s); {} "
+      "people labelled, {} dropped under {} visible pixels -> {}/annotations.json",
+      s.first_frame, s.end_frame - 1, s.rendered, s.resumed, s.seconds,
+      s.seconds > 0 ? static_cast<double>(s.rendered) / s.seconds : 0.0, s.annotations,
+      s.dropped_people, scenario.min_visible_pixels, o.out);
+}
+
+}  // namespace
+
+void attach_generate(CLI::App& parent) {
+  auto o = std::make_shared<GenerateCommandOptions>();
+  CLI::App* cmd = parent.add_subcommand(
+      "generate", "Render domain-randomized scenes of wheelchair users with COCO keypoint labels");
+  cmd->add_option("--config", o->config, "Scenario YAML (default: the paper preset, "
+                                         "configs/wheelpose-paper.yaml)");
+  cmd->add_option("--out", o->out, "Output folder (images/, labels/, annotations.json)");
+  cmd->add_option("--frames", o->frames, "Frames in the whole dataset (all shards)")
+      ->check(CLI::Range(std::int64_t{1}, std::int64_t{1} << 40));
+  cmd->add_option("--seed", o->seed, "Scenario seed");
+  cmd->add_option("--shard", o->shard, "Render shard i of N: frames [i*n/N, (i+1)*n/N)");
+  cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")
+      ->check(CLI::Range(0, 1024));
+  cmd->add_option("--format", o->format, "Image format")->check(CLI::IsMember({"jpg", "png"}));
+  cmd->add_flag("--resume", o->resume,
+                "Keep frames already written by the same command; render the rest");
+  cmd->add_option("--motions", o->motions,
+                  "Folder of seated clip JSON from `wheelpose motion` (default: built-in library)");
+  cmd->add_option("--clips-from", o->clips_from,
+                  "ranking.json from `wheelpose review filter`: use only the kept clips");
+  cmd->add_option("--assets", o->assets, "Body asset root (holds makehuman/)");
+  cmd->add_flag("--list-randomizers", o->list_randomizers,
+                "Print the randomizer reference (Markdown) and exit");
+  cmd->callback([o] { run(*o); });
+}
+
+}  // namespace wheelpose::app

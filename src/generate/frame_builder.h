@@ -1,0 +1,60 @@
+#pragma once
+// Turns a FrameDraft into a renderable Scene (meshes in world space) plus, per person, what the
+// labeler needs: the keypoints of the chosen template in world space and the person's
+// attributes. Instance ids: person k (0-based) → k + 1 for the body and its garments,
+// kChairIdBase + k + 1 for the person's wheelchair; empty wheelchairs, objects and the
+// wall/room take ids from their own bases so a person's visible mask is its body alone.
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "body/person.h"
+#include "eval/keypoint_template.h"
+#include "generate/frame_draft.h"
+#include "motion/clip.h"
+#include "scene/scene.h"
+
+namespace wheelpose::generate {
+
+inline constexpr std::uint16_t kChairIdBase = 1000;
+inline constexpr std::uint16_t kEmptyChairIdBase = 2000;
+inline constexpr std::uint16_t kObjectIdBase = 3000;
+inline constexpr std::uint16_t kStructureIdBase = 4000;
+inline constexpr int kMaxPeoplePerFrame = 999;
+
+// Semantic classes in the semantic buffer.
+enum SemanticClass : std::uint16_t {
+  kSemanticPerson = 1,
+  kSemanticWheelchair = 2,
+  kSemanticObject = 3,
+  kSemanticStructure = 4,  // wall, floor, room walls
+};
+
+struct LabelPerson {
+  std::uint16_t instance_id = 0;
+  std::vector<Eigen::Vector3f> keypoints;  // world, template order
+  std::vector<bool> present;               // false beyond a limb cut
+  std::vector<float> tolerance;            // occlusion tolerance (metres, scaled)
+  nlohmann::ordered_json attributes;       // body, wheelchair, limbs, motion
+};
+
+struct BuiltFrame {
+  scene::Scene scene;
+  std::vector<LabelPerson> people;
+};
+
+// Per keypoint of `keypoint_template`: which point of a body it is. Throws Error naming the
+// template and keypoint for an anchor we cannot resolve.
+struct KeypointAnchor {
+  enum Kind { kCoco, kRaisedHip } kind = kCoco;
+  int index = 0;  // COCO-17 index, or 0 = left / 1 = right raised hip
+  float tolerance_m = 0;  // occlusion tolerance at scale 1
+};
+std::vector<KeypointAnchor> resolve_anchors(const eval::KeypointTemplate& keypoint_template);
+
+BuiltFrame build_frame(const FrameDraft& draft, const body::BodyData& body_data,
+                       const std::vector<motion::SeatedClip>& clips,
+                       const std::vector<KeypointAnchor>& anchors);
+
+}  // namespace wheelpose::generate

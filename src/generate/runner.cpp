@@ -1,0 +1,279 @@
+// The generation run: sharding, parallel frames, per-frame fragments, resume, assembly.
+
+#include "generate/runner.h"
+
+#include <fcntl.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <mutex>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "body/assets.h"
+#include "body/person.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "generate/frame_builder.h"
+#include "generate/labeler.h"
+#include "render/frame_io.h"
+#include "render/renderer.h"
+
+namespace wheelpose::generate {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+using ordered_json = nlohmann::ordered_json;
+
+// Everything that decides the output bytes; resuming into a folder written with other settings
+// would mix two datasets.
+ordered_json provenance(const Scenario& scenario, const RunOptions& options,
+                        const std::vector<motion::SeatedClip>& clips) {
+  ordered_json j;
+  j["format"] = "wheelpose.scenario";
+  j["version"] = 1;
+  j["seed"] = options.seed;
+  j["frames"] = options.frames;
+  j["image_format"] = options.format;
+  j["scenario"] = scenario.to_json();
+  ordered_json names = ordered_json::array();
+  for (const auto& c : clips) names.push_back(c.motion.name);
+  j["motions"] = std::move(names);
+  return j;
+}
+
+json category(const eval::KeypointTemplate& t) {
+  json names = json::array(), skeleton = json::array();
+  for (const auto& k : t.keypoints) names.push_back(k.name);
+  for (const auto& [a, b] : t.skeleton) skeleton.push_back({a + 1, b + 1});
+  return {{"id", 1},
+          {"name", "person"},
+          {"supercategory", "person"},
+          {"keypoints", std::move(names)},
+          {"skeleton", std::move(skeleton)}};
+}
+
+void remove_stray_temporaries(const fs::path& dir) {
+  if (!fs::is_directory(dir)) return;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (entry.path().filename().string().find(".tmp-") != std::string::npos)
+      fs::remove(entry.path());
+  }
+}
+
+std::vector<std::uint8_t> encode_image(const cv::Mat& rgb, const std::string& format, int quality) {
+  cv::Mat bgr;
+  cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+  std::vector<std::uint8_t> bytes;
+  std::vector<int> params;
+  if (format == "jpg") params = {cv::IMWRITE_JPEG_QUALITY, quality, cv::IMWRITE_JPEG_OPTIMIZE, 0};
+  if (!cv::imencode("." + format, bgr, bytes, params)) throw Error("cannot encode " + format);
+  return bytes;
+}
+
+// A file written piece by piece under a temporary name, renamed into place when complete.
+class StreamingFile {
+ public:
+  explicit StreamingFile(const fs::path& path)
+      : path_(path), temp_(path.string() + ".tmp-" + std::to_string(::getpid())) {
+    file_ = std::fopen(temp_.c_str(), "wb");
+    if (file_ == nullptr) throw Error(path.string() + ": cannot write");
+  }
+  ~StreamingFile() {
+    if (file_ != nullptr) {
+      std::fclose(file_);
+      std::error_code ignored;
+      fs::remove(temp_, ignored);
+    }
+  }
+  void write(const std::string& text) {
+    if (std::fwrite(text.data(), 1, text.size(), file_) != text.size())
+      throw Error(path_.string() + ": write failed (disk full?)");
+  }
+  void commit() {
+    const bool ok = std::fflush(file_) == 0 && ::fsync(::fileno(file_)) == 0;
+    std::fclose(file_);
+    file_ = nullptr;
+    if (!ok) throw Error(path_.string() + ": write failed (disk full?)");
+    fs::rename(temp_, path_);
+  }
+
+ private:
+  fs::path path_, temp_;
+  std::FILE* file_ = nullptr;
+};
+
+std::string element_text(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
+
+// annotations.json in the canonical form of dataset::write_coco (keys sorted, one array
+// element per line), streamed from the fragments so memory does not grow with the frame count.
+std::pair<std::int64_t, std::int64_t> assemble_annotations(const fs::path& out,
+                                                           std::int64_t first, std::int64_t end,
+                                                           const json& info, const json& cat) {
+  StreamingFile file(out / "annotations.json");
+  auto fragment = [&](std::int64_t frame) {
+    const fs::path path = out / "labels" / (frame_stem(frame) + ".json");
+    try {
+      return json::parse(read_file(path));
+    } catch (const json::parse_error& e) {
+      throw Error(path.string() + ": malformed label fragment (delete it and re-run with --resume): " +
+                  e.what());
+    }
+  };
+  std::int64_t annotations = 0;
+  file.write("{\n\"annotations\": [");
+  bool any = false;
+  for (std::int64_t f = first; f < end; ++f) {
+    json frag = fragment(f);
+    for (json& a : frag["annotations"]) {
+      a["id"] = ++annotations;
+      a["image_id"] = f + 1;
+      file.write((any ? ",\n" : "\n") + element_text(a));
+      any = true;
+    }
+  }
+  file.write(any ? "\n],\n" : "],\n");
+  file.write("\"categories\": [\n" + element_text(cat) + "\n],\n");
+  file.write("\"images\": [");
+  for (std::int64_t f = first; f < end; ++f) {
+    json image = fragment(f)["image"];
+    image["id"] = f + 1;
+    file.write((f > first ? ",\n" : "\n") + element_text(image));
+  }
+  file.write(end > first ? "\n],\n" : "],\n");
+  file.write("\"info\": " + element_text(info) + ",\n\"licenses\": []\n}\n");
+  file.commit();
+  return {end - first, annotations};
+}
+
+}  // namespace
+
+std::string frame_stem(std::int64_t frame) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%06lld", static_cast<long long>(frame));
+  return buffer;
+}
+
+std::pair<std::int64_t, std::int64_t> shard_range(std::int64_t frames, int index, int count) {
+  return {frames * index / count, frames * (index + 1) / count};
+}
+
+RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
+                        const ProgressFn& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  if (options.frames < 1) throw Error("--frames must be at least 1");
+  if (options.shard_count < 1 || options.shard_index < 0 || options.shard_index >= options.shard_count)
+    throw Error("--shard: expected i/N with 0 <= i < N");
+  if (options.format != "jpg" && options.format != "png") throw Error("--format: expected jpg or png");
+  if (options.out.empty()) throw Error("--out is required");
+
+  std::optional<tbb::global_control> threads;
+  if (options.threads > 0)
+    threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
+
+  const std::vector<motion::SeatedClip> clips = load_motion_clips(options.motions);
+  const body::BodyData body_data(body::locate_assets(options.assets));
+
+  const fs::path out = options.out;
+  ensure_directory(out / "images");
+  ensure_directory(out / "labels");
+  if (scenario.ground_truth_maps) ensure_directory(out / "maps");
+  for (const char* sub : {"", "images", "labels", "maps"}) remove_stray_temporaries(out / sub);
+
+  const ordered_json record = provenance(scenario, options, clips);
+  const std::string record_text = record.dump(2) + "\n";
+  const fs::path record_path = out / "scenario.json";
+  if (options.resume && fs::exists(record_path) && read_file(record_path) != record_text) {
+    throw Error(record_path.string() +
+                ": written by a run with other settings, seed, frame count or clips; resume with "
+                "the same arguments or use a new --out");
+  }
+  write_file_atomic(record_path, record_text);
+
+  RandomizerContext context;
+  context.width = scenario.width;
+  context.height = scenario.height;
+  for (const auto& c : clips) {
+    context.clip_names.push_back(c.motion.name);
+    context.clip_durations.push_back(static_cast<double>(c.motion.frame_count()) / c.motion.fps);
+  }
+
+  RunSummary summary;
+  std::tie(summary.first_frame, summary.end_frame) =
+      shard_range(options.frames, options.shard_index, options.shard_count);
+  std::vector<std::int64_t> todo;
+  for (std::int64_t f = summary.first_frame; f < summary.end_frame; ++f) {
+    if (options.resume && fs::exists(out / "labels" / (frame_stem(f) + ".json"))) {
+      ++summary.resumed;
+    } else {
+      todo.push_back(f);
+    }
+  }
+  const std::int64_t total = summary.end_frame - summary.first_frame;
+  std::atomic<std::int64_t> done{summary.resumed}, dropped{0};
+  std::mutex progress_mutex;
+  if (progress) progress(done, total);
+
+  const LabelOptions label_options{scenario.min_visible_pixels, scenario.segmentation};
+  tbb::parallel_for(std::size_t{0}, todo.size(), std::size_t{1}, [&](std::size_t i) {
+    const std::int64_t frame = todo[i];
+    const FrameDraft draft = draft_frame(scenario, options.seed, frame, context);
+    const BuiltFrame built = build_frame(draft, body_data, clips, scenario.anchors);
+    render::Renderer renderer(built.scene);
+    render::RenderOptions render_options;
+    render_options.spp = scenario.spp;
+    const render::FrameBuffers buffers = renderer.render(render_options);
+    FrameLabels labels = label_frame(built, buffers, label_options);
+    dropped += labels.dropped_people;
+
+    const std::string stem = frame_stem(frame);
+    const std::string file_name = stem + "." + options.format;
+    write_file_atomic(out / "images" / file_name,
+                      encode_image(buffers.rgb, options.format, scenario.jpeg_quality));
+    if (scenario.ground_truth_maps) {
+      write_file_atomic(out / "maps" / (stem + "_depth.png"),
+                        render::encode_png(render::depth_to_millimetres(buffers.depth)));
+      write_file_atomic(out / "maps" / (stem + "_normals.png"),
+                        render::encode_png(render::normals_to_u16(buffers.normals)));
+      write_file_atomic(out / "maps" / (stem + "_instance.png"), render::encode_png(buffers.instance));
+      write_file_atomic(out / "maps" / (stem + "_semantic.png"), render::encode_png(buffers.semantic));
+    }
+    ordered_json image;
+    image["file_name"] = file_name;
+    for (auto& [key, value] : labels.image.items()) image[key] = value;
+    image["frame"] = frame;
+    image["seed"] = options.seed;
+    image["environment"] = draft.environment == EnvironmentKind::kRoom ? "room" : "wall";
+    image["nominal_focal_length_mm"] = std::round(draft.nominal_focal_length_mm * 1e4) / 1e4;
+    ordered_json fragment;
+    fragment["image"] = std::move(image);
+    fragment["annotations"] = std::move(labels.annotations);
+    // The fragment is written last: its presence means the frame is complete.
+    write_file_atomic(out / "labels" / (stem + ".json"), fragment.dump() + "\n");
+    const std::int64_t now = ++done;
+    if (progress) {
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      progress(now, total);
+    }
+  });
+  summary.rendered = static_cast<std::int64_t>(todo.size());
+  summary.dropped_people = dropped;
+
+  json info = {{"description", "WheelPose synthetic wheelchair users"},
+               {"version", "1"},
+               {"seed", options.seed},
+               {"frames", options.frames},
+               {"scenario", "scenario.json"}};
+  std::tie(summary.images, summary.annotations) = assemble_annotations(
+      out, summary.first_frame, summary.end_frame, info, category(scenario.keypoint_template));
+  summary.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+}  // namespace wheelpose::generate

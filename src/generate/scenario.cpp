@@ -1,0 +1,113 @@
+// Scenario loading: the YAML sections, randomizer configuration, and frame drafting.
+
+#include "generate/scenario.h"
+
+#include "core/error.h"
+
+namespace wheelpose::generate {
+namespace {
+
+void resolve_template(Scenario& s) {
+  s.keypoint_template = eval::load_keypoint_template(s.keypoint_template_name);
+  s.anchors = resolve_anchors(s.keypoint_template);
+}
+
+}  // namespace
+
+Scenario Scenario::defaults() {
+  Scenario s;
+  for (const RandomizerEntry& entry : randomizer_registry()) {
+    if (entry.enabled_by_default) s.randomizers.push_back({&entry, entry.make(nullptr)});
+  }
+  resolve_template(s);
+  return s;
+}
+
+Scenario Scenario::from_config(const ConfigNode& root) {
+  Scenario s;
+  if (!root.is_null() && !root.is_map()) root.fail("expected a map of sections");
+  if (auto image = root.optional_child("image")) {
+    s.width = static_cast<int>(image->get_int("width", s.width, 16, 16384));
+    s.height = static_cast<int>(image->get_int("height", s.height, 16, 16384));
+    s.spp = static_cast<int>(image->get_int("spp", s.spp, 1, 4096));
+    s.jpeg_quality = static_cast<int>(image->get_int("jpeg_quality", s.jpeg_quality, 1, 100));
+    image->finish();
+  }
+  if (auto labels = root.optional_child("labels")) {
+    s.keypoint_template_name = labels->get_string("keypoint_template", s.keypoint_template_name);
+    s.min_visible_pixels = static_cast<int>(
+        labels->get_int("min_visible_pixels", s.min_visible_pixels, 1, 1LL << 30));
+    s.segmentation = labels->get_bool("segmentation", s.segmentation);
+    s.ground_truth_maps = labels->get_bool("ground_truth_maps", s.ground_truth_maps);
+    try {
+      resolve_template(s);
+    } catch (const Error& e) {
+      labels->fail(std::string("keypoint_template: ") + e.what());
+    }
+    labels->finish();
+  } else {
+    resolve_template(s);
+  }
+  std::optional<ConfigNode> section = root.optional_child("randomizers");
+  if (section && !section->is_null() && !section->is_map()) {
+    section->fail("expected a map from randomizer name to its settings");
+  }
+  if (section && section->is_map()) {
+    for (const std::string& name : section->keys()) {
+      if (find_randomizer(name) == nullptr) {
+        section->child(name).fail("unknown randomizer (see `wheelpose generate --list-randomizers`)");
+      }
+    }
+  }
+  for (const RandomizerEntry& entry : randomizer_registry()) {
+    std::optional<ConfigNode> node;
+    if (section && section->is_map()) node = section->optional_child(entry.name);
+    if (node && !node->is_null() && !node->is_map()) node->fail("expected a map of settings");
+    const ConfigNode* config = node && node->is_map() ? &*node : nullptr;
+    const bool enabled = config ? config->get_bool("enabled", entry.enabled_by_default)
+                                : entry.enabled_by_default;
+    if (!enabled) {
+      if (config) {
+        // A disabled randomizer's settings are still checked, so typos do not hide.
+        entry.make(config);
+        config->finish();
+      }
+      continue;
+    }
+    s.randomizers.push_back({&entry, entry.make(config)});
+    if (config) config->finish();
+  }
+  root.finish();
+  return s;
+}
+
+Scenario Scenario::from_file(const std::string& path) {
+  return from_config(ConfigNode::load_file(path));
+}
+
+nlohmann::ordered_json Scenario::to_json() const {
+  nlohmann::ordered_json j;
+  j["image"] = {{"width", width}, {"height", height}, {"spp", spp}, {"jpeg_quality", jpeg_quality}};
+  j["labels"] = {{"keypoint_template", keypoint_template_name},
+                 {"min_visible_pixels", min_visible_pixels},
+                 {"segmentation", segmentation},
+                 {"ground_truth_maps", ground_truth_maps}};
+  nlohmann::ordered_json r = nlohmann::ordered_json::object();
+  for (const Active& a : randomizers) r[a.entry->name] = a.randomizer->parameters();
+  j["randomizers"] = std::move(r);
+  return j;
+}
+
+FrameDraft draft_frame(const Scenario& scenario, std::uint64_t seed, std::int64_t index,
+                       const RandomizerContext& context) {
+  FrameDraft draft;
+  draft.index = index;
+  draft.seed = seed;
+  for (const Scenario::Active& a : scenario.randomizers) {
+    RandomStream rng(seed, {"frame", static_cast<std::uint64_t>(index), a.entry->name});
+    a.randomizer->apply(draft, rng, context);
+  }
+  return draft;
+}
+
+}  // namespace wheelpose::generate

@@ -1,0 +1,52 @@
+#pragma once
+// A generation scenario: image settings, the label template and the configured randomizers, read
+// from one YAML file (configs/wheelpose-paper.yaml holds the defaults):
+//
+//   image: {width, height, spp, format_quality}
+//   labels: {keypoint_template, min_visible_pixels, segmentation, ground_truth_maps}
+//   randomizers: {<Name>: {enabled: bool, <parameter>: <value or distribution>, ...}}
+//
+// Unknown sections, randomizers and keys are errors naming file:line:key.
+
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/config.h"
+#include "eval/keypoint_template.h"
+#include "generate/frame_builder.h"
+#include "generate/randomizer.h"
+
+namespace wheelpose::generate {
+
+struct Scenario {
+  int width = 1280, height = 720;
+  int spp = 4;
+  int jpeg_quality = 95;
+  std::string keypoint_template_name = "coco17";
+  int min_visible_pixels = 50;
+  bool segmentation = true;
+  bool ground_truth_maps = false;  // depth/normal/instance/semantic PNGs per frame
+
+  struct Active {
+    const RandomizerEntry* entry;
+    std::shared_ptr<const Randomizer> randomizer;
+  };
+  std::vector<Active> randomizers;  // enabled, in registry order
+  eval::KeypointTemplate keypoint_template;
+  std::vector<KeypointAnchor> anchors;
+
+  // Every setting at its default (the paper preset).
+  static Scenario defaults();
+  static Scenario from_config(const ConfigNode& root);
+  static Scenario from_file(const std::string& path);
+  // The resolved settings and every randomizer's parameters (scenario.json provenance).
+  nlohmann::ordered_json to_json() const;
+};
+
+// Randomizes frame `index`: every active randomizer in order, each with its own stream.
+FrameDraft draft_frame(const Scenario& scenario, std::uint64_t seed, std::int64_t index,
+                       const RandomizerContext& context);
+
+}  // namespace wheelpose::generate

@@ -1,0 +1,161 @@
+// Scenario loading, randomizer streams, sharding and the generated README reference.
+
+#include "generate/scenario.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+#include "generate/runner.h"
+
+namespace wheelpose::generate {
+namespace {
+
+std::string read(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+RandomizerContext small_context() {
+  RandomizerContext ctx;
+  ctx.clip_names = {"a", "b", "c"};
+  ctx.clip_durations = {2.0, 3.5, 1.0};
+  ctx.width = 160;
+  ctx.height = 120;
+  return ctx;
+}
+
+TEST(Scenario, PaperPresetFileEqualsTheBuiltInDefaults) {
+  const Scenario preset = Scenario::from_file(WHEELPOSE_SOURCE_DIR "/configs/wheelpose-paper.yaml");
+  EXPECT_EQ(preset.to_json().dump(1), Scenario::defaults().to_json().dump(1));
+  EXPECT_EQ(preset.randomizers.size(), Scenario::defaults().randomizers.size());
+}
+
+TEST(Scenario, ErrorsNameFileLineAndKey) {
+  auto message = [](const std::string& yaml) {
+    try {
+      Scenario::from_config(ConfigNode::load_string(yaml, "s.yaml"));
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message("randomizers:\n  Camera: {fov: 3}\n").find("s.yaml:2"), std::string::npos);
+  EXPECT_NE(message("randomizers:\n  Camera: {fov: 3}\n").find("fov"), std::string::npos);
+  EXPECT_NE(message("randomizers:\n  Nope: {}\n").find("unknown randomizer"), std::string::npos);
+  EXPECT_NE(message("image: {width: 3}\n").find("width"), std::string::npos);
+  EXPECT_NE(message("labels: {keypoint_template: nothing.json}\n").find("keypoint_template"),
+            std::string::npos);
+  EXPECT_NE(message("colour: red\n").find("colour"), std::string::npos);
+  EXPECT_NE(message("randomizers:\n  HumanGeneration: {min_per_frame: 9, max_per_frame: 3}\n")
+                .find("max_per_frame"),
+            std::string::npos);
+}
+
+TEST(Scenario, DisabledRandomizersDoNotRun) {
+  const Scenario s = Scenario::from_config(ConfigNode::load_string(
+      "randomizers:\n  EmptyWheelchair: {enabled: false}\n  Sprite: {enabled: false}\n", "s"));
+  for (const auto& a : s.randomizers) EXPECT_STRNE(a.entry->name, "EmptyWheelchair");
+  EXPECT_EQ(s.randomizers.size(), Scenario::defaults().randomizers.size() - 1);
+}
+
+TEST(Scenario, FramesAreAPureFunctionOfSeedAndIndex) {
+  const Scenario s = Scenario::defaults();
+  const auto ctx = small_context();
+  const FrameDraft a = draft_frame(s, 11, 5, ctx), b = draft_frame(s, 11, 5, ctx);
+  ASSERT_EQ(a.people.size(), b.people.size());
+  for (std::size_t i = 0; i < a.people.size(); ++i) {
+    EXPECT_EQ(a.people[i].pool_slot, b.people[i].pool_slot);
+    EXPECT_EQ(a.people[i].position, b.people[i].position);
+    EXPECT_EQ(a.people[i].clip, b.people[i].clip);
+  }
+  EXPECT_EQ(a.camera, b.camera);
+  EXPECT_FALSE(draft_frame(s, 11, 6, ctx).camera == a.camera);
+  // The paper's people count: 5..12 per frame, clips from the context.
+  for (int f = 0; f < 40; ++f) {
+    const FrameDraft d = draft_frame(s, 3, f, ctx);
+    EXPECT_GE(d.people.size(), 5u);
+    EXPECT_LE(d.people.size(), 12u);
+    for (const auto& p : d.people) {
+      EXPECT_GE(p.clip, 0);
+      EXPECT_LT(p.clip, 3);
+      EXPECT_LE(p.time, ctx.clip_durations[static_cast<std::size_t>(p.clip)]);
+    }
+  }
+}
+
+TEST(Scenario, APoolMemberIsTheSamePersonInEveryFrameOfItsPool) {
+  const Scenario s = Scenario::defaults();
+  const auto ctx = small_context();
+  std::map<int, double> age_of_slot;
+  for (int f = 0; f < 30; ++f) {
+    for (const auto& p : draft_frame(s, 5, f, ctx).people) {
+      const auto [it, inserted] = age_of_slot.emplace(p.pool_slot, p.spec.params.age_years);
+      EXPECT_EQ(it->second, p.spec.params.age_years) << "slot " << p.pool_slot;
+    }
+  }
+  // The next pool (frame 400 on) draws new people.
+  int changed = 0;
+  for (const auto& p : draft_frame(s, 5, 400, ctx).people) {
+    const auto it = age_of_slot.find(p.pool_slot);
+    changed += it != age_of_slot.end() && it->second != p.spec.params.age_years;
+  }
+  EXPECT_GT(changed, 0);
+}
+
+TEST(Scenario, ReconfiguringOneRandomizerLeavesTheOthersDrawsAlone) {
+  const Scenario a = Scenario::defaults();
+  const Scenario b = Scenario::from_config(ConfigNode::load_string(
+      "randomizers:\n  PostProcessVolume: {contrast: {uniform: [0, 1]}}\n", "s"));
+  const auto ctx = small_context();
+  const FrameDraft fa = draft_frame(a, 1, 2, ctx), fb = draft_frame(b, 1, 2, ctx);
+  EXPECT_EQ(fa.camera, fb.camera);
+  EXPECT_EQ(fa.sun, fb.sun);
+  EXPECT_FALSE(fa.post == fb.post);
+}
+
+TEST(Sharding, ShardsPartitionTheFrames) {
+  for (std::int64_t n : {1, 5, 7, 100}) {
+    for (int count : {1, 2, 3, 8}) {
+      std::int64_t next = 0;
+      for (int i = 0; i < count; ++i) {
+        const auto [first, end] = shard_range(n, i, count);
+        EXPECT_EQ(first, next);
+        EXPECT_GE(end, first);
+        next = end;
+      }
+      EXPECT_EQ(next, n);
+    }
+  }
+}
+
+TEST(PoissonDisk, PointsKeepTheirSeparationAndFillTheArea) {
+  RandomStream rng(9, {"test"});
+  const auto points = poisson_disk(15, 15, 2.5f, rng);
+  ASSERT_GT(points.size(), 15u);  // a 15 m square holds ~25 points 2.5 m apart
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    EXPECT_GE(points[i].x(), 0);
+    EXPECT_LT(points[i].x(), 15);
+    for (std::size_t j = i + 1; j < points.size(); ++j)
+      EXPECT_GE((points[i] - points[j]).norm(), 2.5f);
+  }
+}
+
+TEST(RandomizerReference, ReadmeSectionIsTheGeneratedReference) {
+  const std::string readme = read(WHEELPOSE_SOURCE_DIR "/README.md");
+  const std::string begin = "<!-- randomizer-reference:begin -->\n";
+  const std::string end = "<!-- randomizer-reference:end -->";
+  const auto b = readme.find(begin), e = readme.find(end);
+  ASSERT_NE(b, std::string::npos);
+  ASSERT_NE(e, std::string::npos);
+  EXPECT_EQ(readme.substr(b + begin.size(), e - b - begin.size()),
+            randomizer_reference_markdown())
+      << "regenerate with: wheelpose generate --list-randomizers";
+}
+
+}  // namespace
+}  // namespace wheelpose::generate

@@ -1,0 +1,267 @@
+// End-to-end tests of `wheelpose generate`: labels checked against the ground-truth maps,
+// determinism across thread counts, shard merge, kill-and-resume, clip selection and errors.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "cli_runner.h"
+
+namespace {
+
+using nlohmann::json;
+using wheelpose::testing::fresh_temp_dir;
+using wheelpose::testing::read_text;
+using wheelpose::testing::run_wheelpose;
+namespace fs = std::filesystem;
+
+json read_json(const fs::path& path) { return json::parse(read_text(path)); }
+
+// A small, busy scenario: 160x120, 1 spp, people close to the camera so most are visible and
+// overlap (occlusion by other people, chairs and occluders is exercised).
+const char* kSmallScenario = R"(image: {width: 160, height: 120, spp: 1}
+labels: {ground_truth_maps: true, min_visible_pixels: 20}
+randomizers:
+  HumanGeneration: {min_per_frame: 3, max_per_frame: 5, pool_size: 8}
+  TransformPlacement: {x: {uniform: [-2, 2]}, y: {uniform: [-1.5, 1.5]}, size: {uniform: [0.8, 1.5]}}
+  BackgroundOccluderScale: {scale: {uniform: [0.5, 2]}}
+  Camera: {field_of_view: {uniform: [25, 40]}}
+  LimbDifference: {probability: 0.3}
+)";
+
+fs::path write_scenario(const fs::path& dir) {
+  const fs::path path = dir / "small.yaml";
+  std::ofstream(path) << kSmallScenario;
+  return path;
+}
+
+std::string generate_args(const fs::path& config, const fs::path& out, int frames,
+                          const std::string& extra = "") {
+  return "generate --config " + config.string() + " --out " + out.string() + " --frames " +
+         std::to_string(frames) + " --seed 7 --format png " + extra;
+}
+
+// Every file under `dir` (relative path → bytes), for byte-identity comparisons.
+std::map<std::string, std::string> tree(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (e.is_regular_file()) files[fs::relative(e.path(), dir).string()] = read_text(e.path());
+  }
+  return files;
+}
+
+const std::vector<double> kTolerance = {0.15, 0.033, 0.033, 0.05, 0.05, 0.185, 0.185, 0.15, 0.15,
+                                        0.15, 0.15, 0.21, 0.21, 0.15, 0.15, 0.15, 0.15};
+
+TEST(GenerateCli, LabelsAgreeWithTheGroundTruthMaps) {
+  const fs::path dir = fresh_temp_dir("generate_labels");
+  const auto r = run_wheelpose(generate_args(write_scenario(dir), dir / "out", 6));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json coco = read_json(dir / "out" / "annotations.json");
+  ASSERT_EQ(coco["images"].size(), 6u);
+  ASSERT_GT(coco["annotations"].size(), 6u) << "the scenario should show several people";
+  std::map<int, json> images;
+  for (const json& im : coco["images"]) images[im["id"].get<int>()] = im;
+  int checked_visible = 0, checked_occluded = 0, absent = 0;
+  for (const json& a : coco["annotations"]) {
+    const json& im = images.at(a["image_id"].get<int>());
+    const std::string stem = im["file_name"].get<std::string>().substr(0, 6);
+    const cv::Mat instance =
+        cv::imread((dir / "out" / "maps" / (stem + "_instance.png")).string(), cv::IMREAD_UNCHANGED);
+    const cv::Mat depth =
+        cv::imread((dir / "out" / "maps" / (stem + "_depth.png")).string(), cv::IMREAD_UNCHANGED);
+    ASSERT_FALSE(instance.empty());
+    ASSERT_FALSE(depth.empty());
+    const cv::Mat mask = instance == a["instance_id"].get<int>();
+    // area = visible mask pixels; bbox = tight box of the mask (grown to visible keypoints).
+    EXPECT_EQ(a["area"].get<int>(), cv::countNonZero(mask));
+    const cv::Rect tight = cv::boundingRect(mask);
+    const auto box = a["bbox"].get<std::vector<double>>();
+    EXPECT_LE(box[0], tight.x);
+    EXPECT_LE(box[1], tight.y);
+    EXPECT_GE(box[0] + box[2], tight.x + tight.width);
+    EXPECT_GE(box[1] + box[3], tight.y + tight.height);
+    const auto& in = im["camera"]["intrinsics"];
+    const double fx = in["fx"], fy = in["fy"], cx = in["cx"], cy = in["cy"];
+    const auto kp = a["keypoints"].get<std::vector<double>>();
+    const auto k3 = a["keypoints_3d"].get<std::vector<double>>();
+    ASSERT_EQ(kp.size(), 51u);
+    ASSERT_EQ(k3.size(), 51u);
+    int labelled = 0;
+    const double scale = a["scale"];
+    for (int k = 0; k < 17; ++k) {
+      const double x = kp[3 * k], y = kp[3 * k + 1];
+      const int v = static_cast<int>(kp[3 * k + 2]);
+      if (v == 0) {
+        EXPECT_EQ(x, 0);
+        EXPECT_EQ(y, 0);
+        ++absent;
+        continue;
+      }
+      ++labelled;
+      // The 3D keypoint (camera space, looking down -Z) projects onto the 2D one.
+      const double X = k3[3 * k], Y = k3[3 * k + 1], Z = k3[3 * k + 2];
+      ASSERT_LT(Z, 0);
+      EXPECT_NEAR(cx + fx * X / -Z, x, 0.5);
+      EXPECT_NEAR(cy - fy * Y / -Z, y, 0.5);
+      // Depth map (millimetres) at the keypoint's pixel against keypoint depth and tolerance;
+      // 1.5 mm covers the map's rounding.
+      const double surface = depth.at<std::uint16_t>(static_cast<int>(y), static_cast<int>(x)) / 1000.0;
+      const double limit = -Z - kTolerance[k] * scale;
+      if (v == 2) {
+        EXPECT_TRUE(surface == 0 || surface >= limit - 0.0015) << "keypoint " << k;
+        // The box holds the visible keypoints (occluded ones may lie outside the visible mask).
+        EXPECT_GE(x, box[0]);
+        EXPECT_GE(y, box[1]);
+        EXPECT_LE(x, box[0] + box[2]);
+        EXPECT_LE(y, box[1] + box[3]);
+        ++checked_visible;
+      } else {
+        EXPECT_GT(surface, 0);
+        EXPECT_LT(surface, limit + 0.0015) << "keypoint " << k;
+        ++checked_occluded;
+      }
+    }
+    EXPECT_EQ(a["num_keypoints"].get<int>(), labelled);
+    EXPECT_GE(a["visible_fraction"].get<double>(), 0.0);
+    EXPECT_LE(a["visible_fraction"].get<double>(), 1.0);
+    EXPECT_TRUE(a.contains("wheelchair_type"));
+    EXPECT_TRUE(a.contains("motion_id"));
+    EXPECT_FALSE(a["segmentation"].empty());
+  }
+  EXPECT_GT(checked_visible, 20);
+  EXPECT_GT(checked_occluded, 5) << "people, chairs and occluders should hide some keypoints";
+  EXPECT_GT(absent, 0);
+  const auto v = run_wheelpose("coco validate " + (dir / "out" / "annotations.json").string() +
+                               " --images " + (dir / "out" / "images").string());
+  EXPECT_EQ(v.exit_code, 0) << v.output;
+}
+
+TEST(GenerateCli, SameBytesWhateverTheThreadCount) {
+  const fs::path dir = fresh_temp_dir("generate_threads");
+  const fs::path config = write_scenario(dir);
+  ASSERT_EQ(run_wheelpose(generate_args(config, dir / "one", 4, "--threads 1")).exit_code, 0);
+  ASSERT_EQ(run_wheelpose(generate_args(config, dir / "two", 4, "--threads 2")).exit_code, 0);
+  const auto one = tree(dir / "one"), two = tree(dir / "two");
+  EXPECT_EQ(one.size(), two.size());
+  for (const auto& [name, bytes] : one) EXPECT_TRUE(two.at(name) == bytes) << name;
+}
+
+TEST(GenerateCli, MergedShardsEqualOneRun) {
+  const fs::path dir = fresh_temp_dir("generate_shards");
+  const fs::path config = write_scenario(dir);
+  ASSERT_EQ(run_wheelpose(generate_args(config, dir / "whole", 5)).exit_code, 0);
+  std::string shards;
+  for (int i = 0; i < 3; ++i) {
+    const fs::path out = dir / ("shard" + std::to_string(i));
+    const auto r = run_wheelpose(generate_args(config, out, 5, "--shard " + std::to_string(i) + "/3"));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    shards += " " + (out / "annotations.json").string();
+    for (const auto& e : fs::directory_iterator(out / "images")) {
+      EXPECT_EQ(read_text(e.path()), read_text(dir / "whole" / "images" / e.path().filename()));
+    }
+  }
+  const auto m = run_wheelpose("coco merge" + shards + " --out " + (dir / "merged.json").string());
+  ASSERT_EQ(m.exit_code, 0) << m.output;
+  EXPECT_TRUE(read_text(dir / "merged.json") == read_text(dir / "whole" / "annotations.json"));
+}
+
+TEST(GenerateCli, KilledAndResumedRunsWriteTheSameBytes) {
+  const fs::path dir = fresh_temp_dir("generate_resume");
+  const fs::path config = write_scenario(dir);
+  ASSERT_EQ(run_wheelpose(generate_args(config, dir / "clean", 8)).exit_code, 0);
+  // Kill -9 after growing delays until a run completes; each re-run resumes.
+  const std::string command = std::string(WHEELPOSE_BINARY) + " " +
+                              generate_args(config, dir / "killed", 8, "--resume") +
+                              " > /dev/null 2>&1";
+  int kills = 0;
+  for (double delay = 0.4;; delay += 0.35) {
+    char timeout[64];
+    std::snprintf(timeout, sizeof timeout, "timeout -s KILL %.2f ", delay);
+    const int status = std::system((timeout + command).c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    if (WEXITSTATUS(status) == 0) break;
+    ASSERT_EQ(WEXITSTATUS(status), 137) << "the run failed instead of being killed";
+    ++kills;
+    ASSERT_LT(kills, 60);
+  }
+  EXPECT_GE(kills, 2);
+  const auto clean = tree(dir / "clean"), killed = tree(dir / "killed");
+  EXPECT_EQ(clean.size(), killed.size());
+  for (const auto& [name, bytes] : clean) EXPECT_TRUE(killed.count(name) && killed.at(name) == bytes) << name;
+}
+
+TEST(GenerateCli, ClipsFromARankingRestrictTheMotions) {
+  const fs::path dir = fresh_temp_dir("generate_ranking");
+  const json ranking = {{"format", "wheelpose.review_ranking"},
+                        {"kept", {{{"id", "library/dance_arm_wave"}}, {{"id", "library/stretch_reach_forward"}}}}};
+  std::ofstream(dir / "ranking.json") << ranking.dump();
+  const auto r = run_wheelpose(generate_args(write_scenario(dir), dir / "out", 3,
+                                             "--clips-from " + (dir / "ranking.json").string()));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json coco = read_json(dir / "out" / "annotations.json");
+  ASSERT_FALSE(coco["annotations"].empty());
+  for (const json& a : coco["annotations"]) {
+    const std::string id = a["motion_id"];
+    EXPECT_TRUE(id == "dance_arm_wave" || id == "stretch_reach_forward") << id;
+  }
+  const json record = read_json(dir / "out" / "scenario.json");
+  EXPECT_EQ(record["motions"].size(), 2u);
+}
+
+TEST(GenerateCli, BadInputGivesOneClearLine) {
+  const fs::path dir = fresh_temp_dir("generate_errors");
+  const fs::path bad = dir / "bad.yaml";
+  std::ofstream(bad) << "randomizers:\n  Camera:\n    field_of_veiw: {uniform: [5, 50]}\n";
+  auto r = run_wheelpose("generate --config " + bad.string() + " --out " + (dir / "o").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("bad.yaml:3"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("field_of_veiw"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "o" / "annotations.json"));
+
+  std::ofstream(bad) << "randomizers:\n  Cmaera: {}\n";
+  r = run_wheelpose("generate --config " + bad.string() + " --out " + (dir / "o").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("bad.yaml:2"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("Cmaera"), std::string::npos) << r.output;
+
+  std::ofstream(bad) << "image: {width: 160, height: 120}\nrandomizers:\n  Camera:\n"
+                        "    field_of_view: {uniform: [50, 5]}\n";
+  r = run_wheelpose("generate --config " + bad.string() + " --out " + (dir / "o").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("bad.yaml:4"), std::string::npos) << r.output;
+
+  r = run_wheelpose("generate --out " + (dir / "o").string() + " --shard 3/2");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("--shard"), std::string::npos) << r.output;
+
+  r = run_wheelpose("generate --out " + (dir / "o").string() + " --motions " +
+                    (dir / "missing").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("missing"), std::string::npos) << r.output;
+}
+
+TEST(GenerateCli, StatsRunOnAGeneratedDataset) {
+  const fs::path dir = fresh_temp_dir("generate_stats");
+  ASSERT_EQ(run_wheelpose(generate_args(write_scenario(dir), dir / "out", 4)).exit_code, 0);
+  const auto r = run_wheelpose(
+      "stats " + (dir / "out" / "annotations.json").string() + " --reference " +
+      std::string(WHEELPOSE_SHARED_DIR) + "/data/coco-sample/person_keypoints_sample.json --out " +
+      (dir / "stats").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // Our camera metadata feeds the camera analysis the COCO reference lacks.
+  const json stats = read_json(dir / "stats" / "stats.json");
+  EXPECT_TRUE(stats.dump().find("\"available\":true") != std::string::npos) << stats.dump();
+}
+
+}  // namespace
