@@ -2,7 +2,7 @@
 // A generation scenario: image settings, the label template and the configured randomizers, read
 // from one YAML file (configs/wheelpose-paper.yaml holds the defaults):
 //
-//   image: {width, height, spp, format_quality}
+//   image: {width, height, spp, jpeg_quality}
 //   labels: {keypoint_template, min_visible_pixels, segmentation, ground_truth_maps}
 //   randomizers: {<Name>: {enabled: bool, <parameter>: <value or distribution>, ...}}
 //
