@@ -265,3 +265,48 @@ TEST(GenerateCli, StatsRunOnAGeneratedDataset) {
 }
 
 }  // namespace
+
+namespace {
+
+// deploy/slurm-generate.sh against a stand-in `sbatch` that runs each array task and then the
+// merge job in order: the merged dataset must equal a single run.
+TEST(GenerateDeploy, SlurmArrayScriptRendersShardsAndMerges) {
+  const fs::path dir = fresh_temp_dir("generate_slurm");
+  const fs::path config = write_scenario(dir);
+  const fs::path bin = dir / "bin";
+  fs::create_directories(bin);
+  std::ofstream(bin / "sbatch") << R"(#!/usr/bin/env bash
+# Stand-in for Slurm's sbatch: runs the job now (array tasks one after another).
+array=""; wrap=""
+for arg in "$@"; do
+  case "$arg" in
+    --array=*) array="${arg#--array=}" ;;
+    --wrap=*) wrap="${arg#--wrap=}" ;;
+  esac
+done
+if [ -n "$array" ]; then
+  for i in $(seq "${array%-*}" "${array#*-}"); do SLURM_ARRAY_TASK_ID=$i bash -c "$wrap" >/dev/null 2>&1 || exit 1; done
+else
+  bash -c "$wrap" >/dev/null 2>&1 || exit 1
+fi
+echo 4242
+)";
+  fs::permissions(bin / "sbatch", fs::perms::owner_all);
+  const std::string command = "PATH=" + bin.string() + ":$PATH FRAMES=5 SHARDS=2 SEED=7 OUT=" +
+                              (dir / "run").string() + " CONFIG=" + config.string() +
+                              " WHEELPOSE=" + WHEELPOSE_BINARY + " bash " + WHEELPOSE_SOURCE_DIR +
+                              "/deploy/slurm-generate.sh > /dev/null 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  const auto single = run_wheelpose("generate --config " + config.string() + " --out " +
+                                    (dir / "single").string() + " --frames 5 --seed 7");
+  ASSERT_EQ(single.exit_code, 0) << single.output;
+  EXPECT_TRUE(read_text(dir / "run" / "dataset" / "annotations.json") ==
+              read_text(dir / "single" / "annotations.json"));
+  for (const auto& e : fs::directory_iterator(dir / "single" / "images")) {
+    EXPECT_TRUE(read_text(e.path()) ==
+                read_text(dir / "run" / "dataset" / "images" / e.path().filename()))
+        << e.path().filename();
+  }
+}
+
+}  // namespace
