@@ -109,7 +109,9 @@ void attach_body(CLI::App& parent) {
     sub->add_option("--seed", options->seed, "Random seed (person and wheelchair)");
     sub->add_option("--params", options->params,
                     "Overrides k=v: gender, age, muscle, weight, height, proportions, african, "
-                    "asian, caucasian, skin_tone, wheelchair=manual|sport|power");
+                    "asian, caucasian, skin_tone, wheelchair=manual|sport|power, "
+                    "left_leg/right_leg=none|below_knee|above_knee, "
+                    "left_arm/right_arm=none|below_elbow|above_elbow");
     sub->add_option("--assets", options->assets, "Asset root holding makehuman/");
     sub->add_option("--out", options->out, "Output")->required();
   };

@@ -18,9 +18,9 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kHowToGet =
-    "run scripts/setup.sh, or point --assets / WHEELPOSE_ASSETS at a directory holding "
-    "makehuman/ (CC0 data from makehumancommunity/makehuman and mpfb2, see "
-    "shared/assets/makehuman/SOURCE.md)";
+    "point --assets or WHEELPOSE_ASSETS at a directory holding makehuman/ (the CC0 data of "
+    "makehumancommunity/makehuman and mpfb2, listed in shared/assets/makehuman/SOURCE.md; "
+    "scripts/setup.sh does not download it)";
 
 bool has_makehuman(const fs::path& dir) {
   std::error_code ec;
@@ -43,6 +43,9 @@ fs::path locate_assets(const std::optional<fs::path>& explicit_dir) {
   }
   candidates.emplace_back("assets");
   candidates.emplace_back("../shared/assets");
+  // Beside the source checkout this binary was built from, so it works from any directory.
+  candidates.emplace_back(fs::path(WHEELPOSE_SOURCE_DIR) / "assets");
+  candidates.emplace_back(fs::path(WHEELPOSE_SOURCE_DIR).parent_path() / "shared" / "assets");
   candidates.emplace_back("/work/shared/assets");
   std::string tried;
   for (const fs::path& dir : candidates) {

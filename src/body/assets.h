@@ -1,7 +1,8 @@
 #pragma once
 // Finding and reading the body assets (MakeHuman CC0 data and the sweethome3d wheelchair).
 // The asset root is searched in order: --assets DIR, $WHEELPOSE_ASSETS, ./assets,
-// ../shared/assets, /work/shared/assets. A missing or unreadable file throws Error naming the
+// ../shared/assets, then assets/ and ../shared/assets beside the source checkout the binary was
+// built from, then /work/shared/assets. A missing or unreadable file throws Error naming the
 // file and how to get it.
 
 #include <filesystem>

@@ -38,6 +38,12 @@ TEST(Person, SeatContactBelowOneCentimetreForEveryChairType) {
                                       (person.chair.dimensions["seat_height"].get<float>());
       EXPECT_GT(pelvis_above_seat, 0.03f);
       EXPECT_LT(pelvis_above_seat, 0.2f);
+      // Seat depth from the thigh: most of it, ending before the calves (a bug once left
+      // 6 cm seats because the buttocks counted as calves).
+      const double thigh = (person.joints[motion::kLeftKnee] - person.joints[motion::kLeftHip]).norm();
+      const double seat_depth = person.chair.dimensions["seat_depth"].get<double>();
+      EXPECT_GT(seat_depth, 0.6 * thigh) << wheelchair_type_name(type) << " seed " << seed;
+      EXPECT_LT(seat_depth, 0.95 * thigh) << wheelchair_type_name(type) << " seed " << seed;
     }
   }
 }

@@ -137,11 +137,16 @@ SeatFit measure_seat_fit(const std::vector<Eigen::Vector3f>& v, const std::vecto
     }
   }
   f.hip_width = xmax - xmin;
-  // The seat must end before the calves, which hang below the knees.
+  // The seat must end before the calves, which hang below the knees: body points in the front
+  // part of the thigh span that lie well below the hip–knee line. (Testing only "below the
+  // knee" also caught the buttocks under a raised thigh and left a seat a few cm deep.)
   f.seat_front_limit = left_knee.z();
+  const float knee_dz = left_knee.z() - hip_z;
+  const float slope = std::abs(knee_dz) > 1e-3f ? (left_knee.y() - hip_y) / knee_dz : 0.0f;
   for (int i : body) {
     const Eigen::Vector3f& p = v[i];
-    if (p.y() < left_knee.y() - 0.1f && p.z() > hip_z) {
+    const float thigh_line_y = hip_y + (p.z() - hip_z) * slope;
+    if (p.z() > hip_z + 0.3f * knee_dz && p.y() < thigh_line_y - 0.15f) {
       f.seat_front_limit = std::min(f.seat_front_limit, p.z() - 0.01f);
     }
   }

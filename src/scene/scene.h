@@ -141,7 +141,7 @@ struct PostProcess {
   float vignette = 0.0f;     // 0 … 1: corner darkening
   float bloom = 0.0f;        // 0 … 1: glow added around pixels above `bloom_threshold`
   float bloom_threshold = 1.0f;
-  float film_grain = 0.0f;  // 0 … 1: per-pixel seeded noise
+  float film_grain = 0.0f;  // 0 … 1: seeded noise (one stream per image row)
   float lens_blur = 0.0f;   // max blur radius in pixels for depth away from the focus
   bool operator==(const PostProcess&) const = default;
 };
@@ -177,7 +177,7 @@ struct Scene {
 };
 
 // Unit vector toward the sun for a solar position, in the world frame (+Y up, north = −Z,
-// east = +X). See solar.cpp for the formulas. Below the horizon the vector points down.
+// east = +X). See scene.cpp for the formulas. Below the horizon the vector points down.
 Eigen::Vector3f solar_direction(const SolarPosition& s);
 
 // The sun direction actually used (explicit or from the solar model).
