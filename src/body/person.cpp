@@ -114,6 +114,8 @@ void apply_overrides(PersonSpec& spec, const std::vector<std::string>& overrides
     const std::string key = kv.substr(0, eq), value = kv.substr(eq + 1);
     if (key == "wheelchair") {
       spec.wheelchair = wheelchair_type_from_name(value);
+    } else if (key == "mobility_aid") {
+      spec.mobility_aid = mobility_aid_from_name(value);
     } else if (key.ends_with("_leg") || key.ends_with("_arm")) {
       const Limb limb = limb_from_name(key);
       spec.limbs[static_cast<int>(limb)] = cut_from_name(limb, value);
@@ -269,6 +271,16 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
 
   // Floor at y = 0.
   const Eigen::Vector3f shift(0, -person.chair.ground_y, 0);
+  // The aid is placed on the floor-level body, after the shift below.
+  auto place_aid = [&] {
+    if (spec.mobility_aid == MobilityAidType::kNone) return;
+    AidAnchors anchors{person.coco[7],  person.coco[8],  person.coco[9],
+                       person.coco[10], person.coco[13], person.coco[14]};
+    anchors.left_hand = person.coco_present[9];
+    anchors.right_hand = person.coco_present[10];
+    RandomStream aid_stream(spec.seed, {"body", "mobility_aid"});
+    person.aid = make_mobility_aid(spec.mobility_aid, anchors, aid_stream);
+  };
   for (auto& v : person.vertices) v += shift;
   for (auto& j : person.joints) j += shift.cast<double>();
   for (auto& k : person.coco) k += shift;
@@ -277,6 +289,7 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
   for (auto& t : person.posed_bones.tail) t += shift;
   for (auto& p : person.chair.parts) p.centre += shift;
   person.chair.ground_y = 0;
+  place_aid();
 
   float ymin = 1e9f, ymax = -1e9f;
   for (const auto& v : person.rest_vertices) {
@@ -296,6 +309,7 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
   d["skin_colour"] = vec(person.skin);
   d["rig"] = "mpfb2 game_engine (53 bones)";
   d["wheelchair"] = person.chair.dimensions;
+  d["mobility_aid"] = mobility_aid_name(person.aid.type);
   nlohmann::ordered_json kp;
   for (int k = 0; k < kCocoCount; ++k) kp[coco_names()[k]] = vec(person.coco[k]);
   d["coco_keypoints"] = kp;
@@ -401,16 +415,23 @@ struct SceneParts {
   std::vector<std::pair<std::string, Eigen::Vector3f>> markers;
 };
 
-void add_chair(SceneParts& parts, const Wheelchair& chair) {
-  static const char* kNames[] = {"frame", "upholstery", "tyre", "trim"};
-  for (int m = 0; m < static_cast<int>(chair.colours.size()); ++m) {
-    const TriMesh mesh = primitive_mesh(chair, m);
+// One mesh per material of a primitive assembly, named <prefix>_<material name>.
+void add_primitives(SceneParts& parts, const std::vector<Primitive>& prims,
+                    const std::vector<Eigen::Vector3f>& colours, const std::string& prefix,
+                    const std::vector<const char*>& names) {
+  for (int m = 0; m < static_cast<int>(colours.size()); ++m) {
+    const TriMesh mesh = primitive_mesh(prims, m);
     if (mesh.triangles.empty()) continue;
-    const std::string name = std::string("wheelchair_") + kNames[m];
-    parts.materials.push_back(make_material(name + "_material", chair.colours[m]));
+    const std::string name = prefix + "_" + names[static_cast<std::size_t>(m)];
+    parts.materials.push_back(make_material(name + "_material", colours[m]));
     parts.meshes.push_back(make_ai_mesh(name, mesh.vertices, &mesh.normals, mesh.triangles,
                                         static_cast<unsigned>(parts.materials.size() - 1)));
   }
+}
+
+void add_chair(SceneParts& parts, const Wheelchair& chair) {
+  add_primitives(parts, chair.parts, chair.colours, "wheelchair",
+                 {"frame", "upholstery", "tyre", "trim"});
 }
 
 void export_parts(SceneParts& parts, const fs::path& path) {
@@ -458,6 +479,7 @@ void write_person_glb(const Person& person, const BodyData& /*data*/, const fs::
   const auto normals = vertex_normals(person.vertices, person.triangles);
   parts.meshes.push_back(make_ai_mesh("body", person.vertices, &normals, person.triangles, 0));
   add_chair(parts, person.chair);
+  add_primitives(parts, person.aid.parts, person.aid.colours, "mobility_aid", {"frame", "grips"});
   for (int k = 0; k < kCocoCount; ++k) {
     if (!person.coco_present[k]) continue;
     parts.markers.emplace_back(std::string("kp_") + coco_names()[k], person.coco[k]);

@@ -10,6 +10,7 @@
 
 #include "body/human.h"
 #include "body/limb.h"
+#include "body/mobility_aid.h"
 #include "body/rig.h"
 #include "body/wheelchair.h"
 #include "motion/clip.h"
@@ -48,13 +49,14 @@ struct PersonSpec {
   // Clip pose (global joint rotations); the rest seated pose when absent.
   std::optional<motion::PoseRotations> pose;
   LimbCuts limbs{};  // limb difference, none by default
+  MobilityAidType mobility_aid = MobilityAidType::kNone;
 };
 
 // Random macro parameters and wheelchair type for `seed` (RandomStream(seed, {"body", ...})).
 PersonSpec sample_spec(std::uint64_t seed);
 // Applies "k=v" overrides (body parameters, wheelchair=manual|sport|power,
-// left_leg/right_leg=none|below_knee|above_knee, left_arm/right_arm=none|below_elbow|above_elbow);
-// throws Error.
+// left_leg/right_leg=none|below_knee|above_knee, left_arm/right_arm=none|below_elbow|above_elbow,
+// mobility_aid=none|cane|crutches|walker); throws Error.
 void apply_overrides(PersonSpec& spec, const std::vector<std::string>& overrides);
 
 // Rest seated pose: thighs 35 degrees above horizontal, shins down, feet flat, upper arms down,
@@ -72,6 +74,7 @@ struct Person {
   std::array<Eigen::Vector3f, 2> raised_hips;    // hips 9 cm up the torso (left, right)
   Eigen::Vector3f skin = Eigen::Vector3f::Ones();
   Wheelchair chair;
+  MobilityAid aid;  // held in the hands (or standing in front), empty when none
   nlohmann::ordered_json description;  // parameters, chair dimensions, keypoints
 };
 

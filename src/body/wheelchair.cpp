@@ -44,9 +44,9 @@ Primitive cylinder(const std::string& part, Eigen::Vector3f centre, Eigen::Vecto
   return p;
 }
 
-// A tube between two points.
+// A frame tube between two points.
 Primitive tube(const std::string& part, Eigen::Vector3f a, Eigen::Vector3f b, float radius) {
-  return cylinder(part, (a + b) / 2, b - a, (b - a).norm() / 2, radius, kFrame);
+  return make_tube(part, a, b, radius, kFrame);
 }
 
 // A ring of tubes (tyre, push rim) around `axis`, so wheels are open like spoked ones.
@@ -347,7 +347,16 @@ float max_penetration(const Wheelchair& chair, const std::vector<Eigen::Vector3f
   return worst;
 }
 
+Primitive make_tube(const std::string& part, const Eigen::Vector3f& a, const Eigen::Vector3f& b,
+                    float radius, int material) {
+  return cylinder(part, (a + b) / 2, b - a, (b - a).norm() / 2, radius, material);
+}
+
 TriMesh primitive_mesh(const Wheelchair& chair, int material) {
+  return primitive_mesh(chair.parts, material);
+}
+
+TriMesh primitive_mesh(const std::vector<Primitive>& parts, int material) {
   TriMesh m;
   auto add_quad = [&](const std::array<Eigen::Vector3f, 4>& q, const Eigen::Vector3f& n) {
     const unsigned base = static_cast<unsigned>(m.vertices.size());
@@ -358,7 +367,7 @@ TriMesh primitive_mesh(const Wheelchair& chair, int material) {
     m.triangles.push_back({base, base + 1, base + 2});
     m.triangles.push_back({base, base + 2, base + 3});
   };
-  for (const Primitive& prim : chair.parts) {
+  for (const Primitive& prim : parts) {
     if (prim.material != material) continue;
     auto world = [&](const Eigen::Vector3f& l) -> Eigen::Vector3f {
       return prim.centre + prim.axes * l;

@@ -70,6 +70,11 @@ struct TriMesh {
   std::vector<std::array<unsigned, 3>> triangles;
 };
 TriMesh primitive_mesh(const Wheelchair& chair, int material);
+TriMesh primitive_mesh(const std::vector<Primitive>& parts, int material);
+
+// A cylinder of `radius` from `a` to `b`.
+Primitive make_tube(const std::string& part, const Eigen::Vector3f& a, const Eigen::Vector3f& b,
+                    float radius, int material);
 
 // The CC-BY "Wheel Chair" by bgamage (sweethome3d-furniture, BlendSwap-CC-BY.sh3f), in metres,
 // standing on y = 0, centred in x, its back at z = 0 facing +Z.

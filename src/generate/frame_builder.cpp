@@ -115,9 +115,8 @@ Eigen::Matrix4f trs(const Vector3f& position, const Eigen::Quaternionf& rotation
   return a.matrix();
 }
 
-scene::Mesh chair_mesh(const body::Wheelchair& chair, int material, const std::string& name,
-                       const Eigen::Affine3f& to_world) {
-  const body::TriMesh part = body::primitive_mesh(chair, material);
+scene::Mesh transformed_mesh(const body::TriMesh& part, const std::string& name,
+                             const Eigen::Affine3f& to_world) {
   scene::Mesh mesh;
   mesh.name = name;
   mesh.positions.reserve(part.vertices.size());
@@ -133,7 +132,8 @@ void add_chair(SceneAssembler& out, const body::Wheelchair& chair,
                const std::string& name, std::uint16_t id) {
   static const char* kPartNames[] = {"frame", "upholstery", "tyre", "trim"};
   for (int m = 0; m < 4; ++m) {
-    scene::Mesh mesh = chair_mesh(chair, m, name + "_" + kPartNames[m], to_world);
+    scene::Mesh mesh =
+        transformed_mesh(body::primitive_mesh(chair, m), name + "_" + kPartNames[m], to_world);
     if (mesh.triangles.empty()) continue;
     scene::Material material;
     material.name = mesh.name;
@@ -222,6 +222,20 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
   }
   add_chair(out, person.chair, chair_colours(person.chair, p.chair_colours), to_world,
             name + "_wheelchair", static_cast<std::uint16_t>(kChairIdBase + k + 1));
+  static const char* kAidParts[] = {"frame", "grips"};
+  for (int m = 0; m < static_cast<int>(person.aid.colours.size()); ++m) {
+    scene::Mesh mesh = transformed_mesh(body::primitive_mesh(person.aid.parts, m),
+                                        name + "_mobility_aid_" + kAidParts[m], to_world);
+    if (mesh.triangles.empty()) continue;
+    scene::Material material;
+    material.name = mesh.name;
+    material.diffuse = person.aid.colours[static_cast<std::size_t>(m)];
+    material.specular = m == 0 ? 0.5f : 0.05f;
+    material.shininess = 64.0f;
+    out.add_instance(mesh.name, out.add_mesh(std::move(mesh)), out.add_material(material),
+                     Eigen::Matrix4f::Identity(), static_cast<std::uint16_t>(kAidIdBase + k + 1),
+                     kSemanticMobilityAid);
+  }
 
   label.instance_id = id;
   for (const KeypointAnchor& a : anchors) {
@@ -242,6 +256,7 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
   label.attributes["pool_slot"] = p.pool_slot;
   label.attributes["wheelchair_type"] = body::wheelchair_type_name(person.chair.type);
   label.attributes["limb_difference"] = std::move(limbs);
+  label.attributes["mobility_aid"] = body::mobility_aid_name(person.aid.type);
   label.attributes["motion_id"] = clip != nullptr ? clip->motion.name : "rest_seated";
   label.attributes["motion_time"] = clip != nullptr ? std::round(p.time * 1e4) / 1e4 : 0.0;
   label.attributes["scale"] = std::round(static_cast<double>(p.scale) * 1e4) / 1e4;

@@ -2,8 +2,9 @@
 // Turns a FrameDraft into a renderable Scene (meshes in world space) plus, per person, what the
 // labeler needs: the keypoints of the chosen template in world space and the person's
 // attributes. Instance ids: person k (0-based) → k + 1 for the body and its garments,
-// kChairIdBase + k + 1 for the person's wheelchair; empty wheelchairs, objects and the
-// wall/room take ids from their own bases so a person's visible mask is its body alone.
+// kChairIdBase + k + 1 for the person's wheelchair, kAidIdBase + k + 1 for their mobility aid;
+// empty wheelchairs, objects and the wall/room take ids from their own bases so a person's
+// visible mask is its body alone.
 
 #include <cstdint>
 #include <nlohmann/json.hpp>
@@ -21,6 +22,7 @@ inline constexpr std::uint16_t kChairIdBase = 1000;
 inline constexpr std::uint16_t kEmptyChairIdBase = 2000;
 inline constexpr std::uint16_t kObjectIdBase = 3000;
 inline constexpr std::uint16_t kStructureIdBase = 4000;
+inline constexpr std::uint16_t kAidIdBase = 5000;
 inline constexpr int kMaxPeoplePerFrame = 999;
 
 // Semantic classes in the semantic buffer.
@@ -29,6 +31,7 @@ enum SemanticClass : std::uint16_t {
   kSemanticWheelchair = 2,
   kSemanticObject = 3,
   kSemanticStructure = 4,  // wall, floor, room walls
+  kSemanticMobilityAid = 5,
 };
 
 struct LabelPerson {

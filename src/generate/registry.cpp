@@ -14,6 +14,7 @@ extern const RandomizerEntry kSpriteRandomizer;
 extern const RandomizerEntry kHumanGenerationRandomizer;
 extern const RandomizerEntry kLimbDifferenceRandomizer;
 extern const RandomizerEntry kWheelchairRandomizer;
+extern const RandomizerEntry kMobilityAidRandomizer;
 extern const RandomizerEntry kNonTagAnimationRandomizer;
 extern const RandomizerEntry kTransformPlacementRandomizer;
 extern const RandomizerEntry kForegroundObjectPlacementRandomizer;
@@ -39,6 +40,7 @@ const std::vector<RandomizerEntry>& randomizer_registry() {
       kHumanGenerationRandomizer,
       kLimbDifferenceRandomizer,
       kWheelchairRandomizer,
+      kMobilityAidRandomizer,
       kNonTagAnimationRandomizer,
       kTransformPlacementRandomizer,
       kForegroundObjectPlacementRandomizer,
