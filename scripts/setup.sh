@@ -9,7 +9,7 @@ packages=(
   libcpp-httplib-dev libsqlite3-dev libopencv-dev libgif-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libplplot-dev plplot-driver-cairo libminizip-dev zlib1g-dev
-  chromium sweethome3d-furniture
+  chromium sweethome3d-furniture blender-data
 )
 
 missing=()

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <opencv2/imgproc.hpp>
 #include <string>
 
 #include "core/error.h"
@@ -88,6 +89,7 @@ Renderer::Renderer(const scene::Scene& scene) : scene_(scene) {
   if (scene_.environment && !scene_.environment->path.empty()) {
     environment_map_ = load_linear_image(scene::resolve_path(scene_, scene_.environment->path),
                                          "/environment/path");
+    build_environment_sampling();
   }
   float total = 0;
   for (std::size_t i = 0; i < scene_.point_lights.size(); ++i) {
@@ -161,6 +163,66 @@ Eigen::Vector3f Renderer::environment(const Eigen::Vector3f& d) const {
   const float u = 0.5f + std::atan2(d.x(), -d.z()) / (2 * kPi) + e.rotation_deg / 360.0f;
   const float v = std::acos(std::clamp(d.y(), -1.0f, 1.0f)) / kPi;
   return sample_bilinear(environment_map_, u, std::min(v, 0.9999f)) * e.intensity;
+}
+
+void Renderer::build_environment_sampling() {
+  // A coarse grid is enough to find the bright regions (sun, windows) of an HDRI.
+  env_grid_w_ = std::min(environment_map_.cols, 256);
+  env_grid_h_ = std::min(environment_map_.rows, 128);
+  cv::Mat small;
+  cv::resize(environment_map_, small, cv::Size(env_grid_w_, env_grid_h_), 0, 0, cv::INTER_AREA);
+  env_row_cdf_.assign(static_cast<std::size_t>(env_grid_h_) + 1, 0.0f);
+  env_cell_cdf_.assign(static_cast<std::size_t>(env_grid_h_) * (env_grid_w_ + 1), 0.0f);
+  for (int y = 0; y < env_grid_h_; ++y) {
+    const float sin_theta = std::sin(kPi * (static_cast<float>(y) + 0.5f) / env_grid_h_);
+    float* row = &env_cell_cdf_[static_cast<std::size_t>(y) * (env_grid_w_ + 1)];
+    for (int x = 0; x < env_grid_w_; ++x) {
+      const cv::Vec3f c = small.at<cv::Vec3f>(y, x);
+      const float lum = std::max(0.0f, 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]);
+      row[x + 1] = row[x] + lum * sin_theta + 1e-6f;  // every direction keeps a chance
+    }
+    env_row_cdf_[static_cast<std::size_t>(y) + 1] = env_row_cdf_[y] + row[env_grid_w_];
+    for (int x = 1; x <= env_grid_w_; ++x) row[x] /= row[env_grid_w_];
+  }
+  for (float& c : env_row_cdf_) c /= env_row_cdf_.back();
+}
+
+Eigen::Vector3f Renderer::sample_environment(float r1, float r2, float& pdf) const {
+  auto pick = [](const float* cdf, int n, float r, float& frac) {
+    const int i = std::clamp(
+        static_cast<int>(std::upper_bound(cdf + 1, cdf + n + 1, r) - (cdf + 1)), 0, n - 1);
+    const float width = cdf[i + 1] - cdf[i];
+    frac = width > 0 ? std::clamp((r - cdf[i]) / width, 0.0f, 0.9999f) : 0.5f;
+    return i;
+  };
+  float fy = 0, fx = 0;
+  const int y = pick(env_row_cdf_.data(), env_grid_h_, r1, fy);
+  const float* row = &env_cell_cdf_[static_cast<std::size_t>(y) * (env_grid_w_ + 1)];
+  const int x = pick(row, env_grid_w_, r2, fx);
+  const float cell_probability = (env_row_cdf_[y + 1] - env_row_cdf_[y]) * (row[x + 1] - row[x]);
+  const float u = (static_cast<float>(x) + fx) / env_grid_w_;
+  const float v = (static_cast<float>(y) + fy) / env_grid_h_;
+  const float theta = kPi * v;
+  // Inverse of environment(): u = 0.5 + atan2(d.x, −d.z) / 2π + rotation.
+  const float phi = 2 * kPi * (u - 0.5f - scene_.environment->rotation_deg / 360.0f);
+  const float sin_theta = std::sin(theta);
+  pdf = sin_theta > 1e-6f ? cell_probability * env_grid_w_ * env_grid_h_ /
+                                (2 * kPi * kPi * sin_theta)
+                          : 0.0f;
+  return Eigen::Vector3f(sin_theta * std::sin(phi), std::cos(theta), -sin_theta * std::cos(phi));
+}
+
+float Renderer::environment_pdf(const Eigen::Vector3f& d) const {
+  const float u = 0.5f + std::atan2(d.x(), -d.z()) / (2 * kPi) +
+                  scene_.environment->rotation_deg / 360.0f;
+  const float theta = std::acos(std::clamp(d.y(), -1.0f, 1.0f));
+  const float sin_theta = std::sin(theta);
+  if (sin_theta <= 1e-6f) return 0.0f;
+  const int x = std::clamp(static_cast<int>((u - std::floor(u)) * env_grid_w_), 0, env_grid_w_ - 1);
+  const int y = std::clamp(static_cast<int>(theta / kPi * env_grid_h_), 0, env_grid_h_ - 1);
+  const float* row = &env_cell_cdf_[static_cast<std::size_t>(y) * (env_grid_w_ + 1)];
+  const float cell_probability = (env_row_cdf_[y + 1] - env_row_cdf_[y]) * (row[x + 1] - row[x]);
+  return cell_probability * env_grid_w_ * env_grid_h_ / (2 * kPi * kPi * sin_theta);
 }
 
 Eigen::Vector3f Renderer::background(float px, float py, const Eigen::Vector3f& dir) const {
@@ -478,8 +540,35 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
             }
           }
         }
-        if (env_on) {
-          // Cosine-weighted direction: the estimator is albedo × L_env.
+        if (env_on && !env_row_cdf_.empty()) {
+          // An environment map: one-sample MIS of two strategies, half the samples drawn by
+          // the map's brightness (finds the sun), half cosine-weighted (covers the hemisphere
+          // when the bright part is behind the surface); pdf = the mixture's, so either choice
+          // gives albedo / π × L × cos / pdf.
+          const float r0 = static_cast<float>(rng.uniform01());
+          const float r1 = static_cast<float>(rng.uniform01()),
+                      r2 = static_cast<float>(rng.uniform01());
+          Eigen::Vector3f l;
+          if (r0 < 0.5f) {
+            float ignored = 0;
+            l = sample_environment(r1, r2, ignored);
+          } else {
+            Eigen::Vector3f bu, bv;
+            basis(n, bu, bv);
+            const float rad = std::sqrt(r1), ph = 2 * kPi * r2;
+            l = (rad * std::cos(ph) * bu + rad * std::sin(ph) * bv +
+                 std::sqrt(std::max(0.0f, 1 - r1)) * n)
+                    .normalized();
+          }
+          const float c = n.dot(l);
+          const float pdf = 0.5f * environment_pdf(l) + 0.5f * std::max(0.0f, c) / kPi;
+          if (pdf > 0 && c > 0 && ng.dot(l) > 0) {
+            set_ray(shadow[2], k, origin, l, kInf);
+            shadow_valid[2][k] = -1;
+            contrib[2][k] = albedo.cwiseProduct(environment(l)) * (c / (kPi * pdf));
+          }
+        } else if (env_on) {
+          // Uniform sky: a cosine-weighted direction; the estimator is albedo × L_env.
           const float r1 = static_cast<float>(rng.uniform01()),
                       r2 = static_cast<float>(rng.uniform01());
           Eigen::Vector3f bu, bv;

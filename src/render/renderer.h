@@ -85,6 +85,11 @@ class Renderer {
                    double& trace_ns, double& shade_ns, long long& rays) const;
   Eigen::Vector3f background(float px, float py, const Eigen::Vector3f& dir) const;
   Eigen::Vector3f environment(const Eigen::Vector3f& dir) const;
+  // Importance sampling of an environment map by luminance × sin θ on a coarse grid: a
+  // direction and its solid-angle pdf from two uniform numbers.
+  void build_environment_sampling();
+  Eigen::Vector3f sample_environment(float r1, float r2, float& pdf) const;
+  float environment_pdf(const Eigen::Vector3f& dir) const;  // of sample_environment
 
   scene::Scene scene_;
   RTCDevice device_ = nullptr;
@@ -94,6 +99,9 @@ class Renderer {
   TextureSampler background_texture_;
   cv::Mat background_image_;
   cv::Mat environment_map_;
+  int env_grid_w_ = 0, env_grid_h_ = 0;
+  std::vector<float> env_row_cdf_;   // env_grid_h_ + 1 entries, normalised
+  std::vector<float> env_cell_cdf_;  // per row, env_grid_w_ + 1 entries, normalised
   std::vector<int> lights_on_;    // indices of point lights that are on
   std::vector<float> light_cdf_;    // power-proportional selection
   std::vector<float> light_power_;  // per light that is on

@@ -4,6 +4,7 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <opencv2/imgcodecs.hpp>
 
 #include "render/test_scenes.h"
 
@@ -206,6 +207,35 @@ TEST(Renderer, EmptySceneShowsTheBackground) {
   const FrameBuffers f = Renderer(s).render({.spp = 2});
   EXPECT_EQ(f.linear.at<cv::Vec3f>(3, 3), cv::Vec3f(0.5f, 0.25f, 0.0f));
   EXPECT_EQ(f.rgb.at<cv::Vec3b>(3, 3), cv::Vec3b(188, 137, 0));  // sRGB of 0.5 and 0.25
+}
+
+}  // namespace
+}  // namespace wheelpose::render
+
+namespace wheelpose::render {
+namespace {
+
+// A wall lit only by an environment. With a map of constant radiance L the importance-sampled
+// estimate must converge to the uniform sky's albedo × L (half the sphere is behind the wall,
+// so a wrong pdf or a lost cosine shows up as a factor); with a map bright on one side only,
+// the side facing the bright half gets more light.
+TEST(Renderer, EnvironmentMapSamplingMatchesTheUniformSky) {
+  const std::string dir = ::testing::TempDir();
+  cv::Mat flat(64, 128, CV_32FC3, cv::Scalar::all(0.25));
+  cv::imwrite(dir + "/flat.exr", flat);
+  scene::Scene s = wall_scene(2.0f);
+  s.materials[0].diffuse = Eigen::Vector3f(0.8f, 0.8f, 0.8f);
+  scene::Environment uniform;
+  uniform.color = Eigen::Vector3f(0.25f, 0.25f, 0.25f);
+  s.environment = uniform;
+  const FrameBuffers expected = Renderer(s).render({.spp = 16, .post = false});
+  scene::Environment mapped;
+  mapped.path = dir + "/flat.exr";
+  s.environment = mapped;
+  const FrameBuffers actual = Renderer(s).render({.spp = 16, .post = false});
+  const double e = cv::mean(expected.linear)[0], a = cv::mean(actual.linear)[0];
+  EXPECT_NEAR(e, 0.8 * 0.25, 0.01);
+  EXPECT_NEAR(a, e, 0.02 * e);
 }
 
 }  // namespace
