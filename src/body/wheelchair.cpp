@@ -416,10 +416,7 @@ TriMesh primitive_mesh(const std::vector<Primitive>& parts, int material) {
   return m;
 }
 
-TriMesh load_cc_by_wheelchair() {
-  const std::string entry = "blendswap-cc-by/wheelchair/wheelchair.obj";
-  const auto archive = sweethome3d_archive();
-  const std::string text = read_zip_entry(archive, entry);
+TriMesh parse_obj_mesh(const std::string& text, const std::string& origin) {
   TriMesh m;
   std::istringstream in(text);
   std::string line;
@@ -430,10 +427,9 @@ TriMesh load_cc_by_wheelchair() {
       std::istringstream ls(line.substr(2));
       Eigen::Vector3f v;
       if (!(ls >> v.x() >> v.y() >> v.z())) {
-        throw Error(archive.string() + ": " + entry + ":" + std::to_string(line_no) +
-                    ": bad vertex");
+        throw Error(origin + ":" + std::to_string(line_no) + ": bad vertex");
       }
-      m.vertices.push_back(v * 0.01f);  // centimetres -> metres
+      m.vertices.push_back(v);
     } else if (line.rfind("f ", 0) == 0) {
       std::istringstream ls(line.substr(2));
       std::vector<unsigned> idx;
@@ -443,8 +439,7 @@ TriMesh load_cc_by_wheelchair() {
         const long n = static_cast<long>(m.vertices.size());
         const long resolved = i < 0 ? n + i : i - 1;
         if (resolved < 0 || resolved >= n) {
-          throw Error(archive.string() + ": " + entry + ":" + std::to_string(line_no) +
-                      ": bad face");
+          throw Error(origin + ":" + std::to_string(line_no) + ": bad face");
         }
         idx.push_back(static_cast<unsigned>(resolved));
       }
@@ -452,9 +447,15 @@ TriMesh load_cc_by_wheelchair() {
         m.triangles.push_back({idx[0], idx[k - 1], idx[k]});
     }
   }
-  if (m.vertices.empty() || m.triangles.empty()) {
-    throw Error(archive.string() + ": " + entry + ": no geometry");
-  }
+  if (m.vertices.empty() || m.triangles.empty()) throw Error(origin + ": no geometry");
+  return m;
+}
+
+TriMesh load_cc_by_wheelchair() {
+  const std::string entry = "blendswap-cc-by/wheelchair/wheelchair.obj";
+  const auto archive = sweethome3d_archive();
+  TriMesh m = parse_obj_mesh(read_zip_entry(archive, entry), archive.string() + ": " + entry);
+  for (auto& v : m.vertices) v *= 0.01f;  // centimetres -> metres
   Eigen::Vector3f lo = m.vertices[0], hi = m.vertices[0];
   for (const auto& v : m.vertices) {
     lo = lo.cwiseMin(v);

@@ -76,6 +76,10 @@ TriMesh primitive_mesh(const std::vector<Primitive>& parts, int material);
 Primitive make_tube(const std::string& part, const Eigen::Vector3f& a, const Eigen::Vector3f& b,
                     float radius, int material);
 
+// Vertices ("v") and faces ("f", fans of polygons) of Wavefront OBJ text, as written; `origin`
+// names it in errors (origin:line).
+TriMesh parse_obj_mesh(const std::string& text, const std::string& origin);
+
 // The CC-BY "Wheel Chair" by bgamage (sweethome3d-furniture, BlendSwap-CC-BY.sh3f), in metres,
 // standing on y = 0, centred in x, its back at z = 0 facing +Z.
 TriMesh load_cc_by_wheelchair();

@@ -92,6 +92,21 @@ class SceneAssembler {
     primitive_meshes_.emplace(key, index);
     return index;
   }
+  // One mesh per furniture model, shared by every instance of it in the frame.
+  int furniture_mesh(const FurnitureCatalog& catalog, std::size_t item) {
+    const std::string key = "furniture:" + std::to_string(item);
+    auto it = primitive_meshes_.find(key);
+    if (it != primitive_meshes_.end()) return it->second;
+    const body::TriMesh& model = catalog.mesh(item);
+    scene::Mesh mesh;
+    mesh.name = catalog.items()[item].name;
+    mesh.positions = model.vertices;  // normals left empty: flat faces keep hard edges
+    for (const auto& t : model.triangles)
+      mesh.triangles.emplace_back(static_cast<int>(t[0]), static_cast<int>(t[1]), static_cast<int>(t[2]));
+    const int index = add_mesh(std::move(mesh));
+    primitive_meshes_.emplace(key, index);
+    return index;
+  }
   void add_instance(const std::string& name, int mesh, int material,
                     const Eigen::Matrix4f& transform, std::uint16_t id, std::uint16_t semantic) {
     scene::Instance inst;
@@ -330,7 +345,8 @@ std::vector<KeypointAnchor> resolve_anchors(const eval::KeypointTemplate& keypoi
 
 BuiltFrame build_frame(const FrameDraft& draft, const body::BodyData& body_data,
                        const std::vector<motion::SeatedClip>& clips,
-                       const std::vector<KeypointAnchor>& anchors) {
+                       const std::vector<KeypointAnchor>& anchors,
+                       const FurnitureCatalog* furniture) {
   if (draft.people.size() > static_cast<std::size_t>(kMaxPeoplePerFrame))
     throw Error("frame " + std::to_string(draft.index) + ": more than 999 people");
   BuiltFrame built;
@@ -346,9 +362,12 @@ BuiltFrame build_frame(const FrameDraft& draft, const body::BodyData& body_data,
   add_structure(out, draft);
   for (std::size_t i = 0; i < draft.objects.size(); ++i) {
     ObjectDraft o = draft.objects[i];
-    // In rooms objects stand on the floor (unit shapes span y in [-0.5, 0.5]).
-    if (draft.environment == EnvironmentKind::kRoom) o.position.y() = 0.5f * o.scale.y();
-    const int mesh = out.primitive_mesh(object_spec(o.shape));
+    const bool model = o.furniture >= 0 && furniture != nullptr &&
+                       static_cast<std::size_t>(o.furniture) < furniture->items().size();
+    // In rooms objects stand on the floor (unit shapes span y in [-0.5, 0.5], models [0, h]).
+    if (draft.environment == EnvironmentKind::kRoom) o.position.y() = model ? 0.0f : 0.5f * o.scale.y();
+    const int mesh = model ? out.furniture_mesh(*furniture, static_cast<std::size_t>(o.furniture))
+                           : out.primitive_mesh(object_spec(o.shape));
     scene::Material m = o.material;
     m.name = "object_" + std::to_string(i + 1);
     out.add_instance(m.name, mesh, out.add_material(m), trs(o.position, o.rotation, o.scale),

@@ -13,6 +13,7 @@
 #include "body/person.h"
 #include "eval/keypoint_template.h"
 #include "generate/frame_draft.h"
+#include "generate/furniture.h"
 #include "motion/clip.h"
 #include "scene/scene.h"
 
@@ -58,6 +59,7 @@ std::vector<KeypointAnchor> resolve_anchors(const eval::KeypointTemplate& keypoi
 
 BuiltFrame build_frame(const FrameDraft& draft, const body::BodyData& body_data,
                        const std::vector<motion::SeatedClip>& clips,
-                       const std::vector<KeypointAnchor>& anchors);
+                       const std::vector<KeypointAnchor>& anchors,
+                       const FurnitureCatalog* furniture = nullptr);
 
 }  // namespace wheelpose::generate

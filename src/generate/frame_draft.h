@@ -19,6 +19,7 @@ enum class EnvironmentKind { kWall, kRoom };
 // A background occluder, or a piece of furniture in a room: a primitive or a loaded model.
 struct ObjectDraft {
   std::string shape = "box";  // "box", "sphere", "capsule", "cylinder"
+  int furniture = -1;  // index into the furniture catalog (rooms); -1 = the primitive `shape`
   Eigen::Vector3f position = Eigen::Vector3f::Zero();
   Eigen::Quaternionf rotation = Eigen::Quaternionf::Identity();
   Eigen::Vector3f scale = Eigen::Vector3f::Ones();  // multiplies a unit-sized shape (1 m)

@@ -21,6 +21,7 @@ struct RandomizerContext {
   std::vector<std::string> clip_names;
   std::vector<double> clip_durations;  // seconds
   int width = 1280, height = 720;
+  int furniture_count = 0;  // models in the furniture catalog (0 = none installed)
 };
 
 class Randomizer {

@@ -13,9 +13,10 @@ class BackgroundObjectPlacement final : public Randomizer {
         height_(number_or(c, "height", 15.0, 0.1, 1000.0)),
         separation_(number_or(c, "separation", 2.5, 0.1, 100.0)),
         depth_(sampler_or(c, "depth", ScalarSampler::uniform(-7.5, 7.5))),
-        room_separation_(number_or(c, "room_separation", 1.5, 0.1, 100.0)) {}
+        room_separation_(number_or(c, "room_separation", 1.5, 0.1, 100.0)),
+        furniture_probability_(number_or(c, "furniture_probability", 0.85, 0.0, 1.0)) {}
 
-  void apply(FrameDraft& f, RandomStream& rng, const RandomizerContext&) const override {
+  void apply(FrameDraft& f, RandomStream& rng, const RandomizerContext& ctx) const override {
     static const char* shapes[] = {"box", "sphere", "capsule", "cylinder"};
     if (f.environment == EnvironmentKind::kRoom) {
       // Furniture stand-ins along the room, kept off the middle where people are placed.
@@ -25,6 +26,10 @@ class BackgroundObjectPlacement final : public Randomizer {
         if (std::abs(q.x()) < w / 4 && std::abs(q.y()) < d / 4) continue;
         ObjectDraft o;
         o.shape = rng.bernoulli(0.7) ? "box" : shapes[rng.uniform_int(1, 3)];
+        // Both drawn always, so the stream does not depend on what is installed.
+        const bool furniture = rng.bernoulli(furniture_probability_);
+        const auto item = rng.uniform_int(0, std::max(0, ctx.furniture_count - 1));
+        if (furniture && ctx.furniture_count > 0) o.furniture = static_cast<int>(item);
         o.position = Eigen::Vector3f(q.x(), 0.5f, q.y());  // the builder rests it on the floor
         f.objects.push_back(o);
       }
@@ -47,13 +52,15 @@ class BackgroundObjectPlacement final : public Randomizer {
             {"height", height_},
             {"separation", separation_},
             {"depth", depth_.describe()},
-            {"room_separation", room_separation_}};
+            {"room_separation", room_separation_},
+            {"furniture_probability", furniture_probability_}};
   }
 
  private:
   double width_, height_, separation_;
   ScalarSampler depth_;
   double room_separation_;
+  double furniture_probability_;
 };
 
 }  // namespace
@@ -64,8 +71,10 @@ extern const RandomizerEntry kBackgroundObjectPlacementRandomizer = {
     "Poisson-disk points (Bridson, 30 candidates) of a `width` × `height` = 15 × 15 m area centred "
     "on the origin, at least `separation` = 2.5 m apart, at depth z ~ `depth` = U(−7.5, 7.5) "
     "(the paper's table; the authors' scene used U(−10, 14), which puts 12 m objects against the "
-    "camera). Room layout: furniture-sized blocks on the floor, `room_separation` = 1.5 m apart, "
-    "outside the middle half of the room.",
+    "camera). Room layout: furniture on the floor, `room_separation` = 1.5 m apart, outside the "
+    "middle half of the room: with `furniture_probability` = 0.85 a CC0 model from Debian "
+    "`sweethome3d-furniture` (BlendSwap-CC-0.sh3f: living room, bedroom, kitchen, office and "
+    "bathroom items at their catalogued size), else a box or rounded block.",
     true, [](const ConfigNode* c) -> std::unique_ptr<Randomizer> {
       return std::make_unique<BackgroundObjectPlacement>(c);
     }};

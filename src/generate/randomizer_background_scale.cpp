@@ -15,11 +15,11 @@ class BackgroundOccluderScale final : public Randomizer {
   void apply(FrameDraft& f, RandomStream& rng, const RandomizerContext&) const override {
     const bool room = f.environment == EnvironmentKind::kRoom;
     for (ObjectDraft& o : f.objects) {
-      if (room) {  // furniture stand-ins: a box per axis
+      if (room) {  // furniture stand-ins: a box per axis; models keep their catalogued size
         const float x = static_cast<float>(room_scale_.sample(rng));
         const float y = static_cast<float>(room_scale_.sample(rng));
         const float z = static_cast<float>(room_scale_.sample(rng));
-        o.scale = Eigen::Vector3f(x, y, z);
+        o.scale = o.furniture >= 0 ? Eigen::Vector3f::Ones() : Eigen::Vector3f(x, y, z);
       } else {  // the paper's uniform scale of a base-sized primitive
         o.scale = Eigen::Vector3f::Constant(static_cast<float>(base_size_ * scale_.sample(rng)));
       }

@@ -178,6 +178,7 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
 
   const std::vector<motion::SeatedClip> clips = load_motion_clips(options.motions);
   const body::BodyData body_data(body::locate_assets(options.assets));
+  const FurnitureCatalog furniture(FurnitureCatalog::default_archive());
 
   const fs::path out = options.out;
   ensure_directory(out / "images");
@@ -185,7 +186,9 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
   if (scenario.ground_truth_maps) ensure_directory(out / "maps");
   for (const char* sub : {"", "images", "labels", "maps"}) remove_stray_temporaries(out / sub);
 
-  const ordered_json record = provenance(scenario, options, clips);
+  ordered_json record = provenance(scenario, options, clips);
+  record["furniture"] = {{"archive", furniture.archive().string()},
+                         {"models", furniture.items().size()}};
   const std::string record_text = record.dump(2) + "\n";
   const fs::path record_path = out / "scenario.json";
   if (options.resume && fs::exists(record_path) && read_file(record_path) != record_text) {
@@ -198,6 +201,7 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
   RandomizerContext context;
   context.width = scenario.width;
   context.height = scenario.height;
+  context.furniture_count = static_cast<int>(furniture.items().size());
   for (const auto& c : clips) {
     context.clip_names.push_back(c.motion.name);
     context.clip_durations.push_back(static_cast<double>(c.motion.frame_count()) / c.motion.fps);
@@ -223,7 +227,7 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
   tbb::parallel_for(std::size_t{0}, todo.size(), std::size_t{1}, [&](std::size_t i) {
     const std::int64_t frame = todo[i];
     const FrameDraft draft = draft_frame(scenario, options.seed, frame, context);
-    const BuiltFrame built = build_frame(draft, body_data, clips, scenario.anchors);
+    const BuiltFrame built = build_frame(draft, body_data, clips, scenario.anchors, &furniture);
     render::Renderer renderer(built.scene);
     render::RenderOptions render_options;
     render_options.spp = scenario.spp;
