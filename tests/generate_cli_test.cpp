@@ -185,7 +185,7 @@ TEST(GenerateCli, KilledAndResumedRunsWriteTheSameBytes) {
                               generate_args(config, dir / "killed", 8, "--resume") +
                               " > /dev/null 2>&1";
   int kills = 0;
-  for (double delay = 0.4;; delay += 0.35) {
+  for (double delay = 0.3;; delay += 0.15) {
     char timeout[64];
     std::snprintf(timeout, sizeof timeout, "timeout -s KILL %.2f ", delay);
     const int status = std::system((timeout + command).c_str());

@@ -19,11 +19,12 @@ class BackgroundObjectPlacement final : public Randomizer {
   void apply(FrameDraft& f, RandomStream& rng, const RandomizerContext& ctx) const override {
     static const char* shapes[] = {"box", "sphere", "capsule", "cylinder"};
     if (f.environment == EnvironmentKind::kRoom) {
-      // Furniture stand-ins along the room, kept off the middle where people are placed.
+      // Furniture along the walls: the outer 15 % of the room on each side, so the middle
+      // stays free for the people.
       const float w = f.room.size.x(), d = f.room.size.y();
       for (const Eigen::Vector2f& p : poisson_disk(w, d, static_cast<float>(room_separation_), rng)) {
         const Eigen::Vector2f q = p - Eigen::Vector2f(w / 2, d / 2);
-        if (std::abs(q.x()) < w / 4 && std::abs(q.y()) < d / 4) continue;
+        if (std::abs(q.x()) < 0.35f * w && std::abs(q.y()) < 0.35f * d) continue;
         ObjectDraft o;
         o.shape = rng.bernoulli(0.7) ? "box" : shapes[rng.uniform_int(1, 3)];
         // Both drawn always, so the stream does not depend on what is installed.
@@ -71,8 +72,8 @@ extern const RandomizerEntry kBackgroundObjectPlacementRandomizer = {
     "Poisson-disk points (Bridson, 30 candidates) of a `width` × `height` = 15 × 15 m area centred "
     "on the origin, at least `separation` = 2.5 m apart, at depth z ~ `depth` = U(−7.5, 7.5) "
     "(the paper's table; the authors' scene used U(−10, 14), which puts 12 m objects against the "
-    "camera). Room layout: furniture on the floor, `room_separation` = 1.5 m apart, outside the "
-    "middle half of the room: with `furniture_probability` = 0.85 a CC0 model from Debian "
+    "camera). Room layout: furniture on the floor along the walls (the outer 15 % of the room "
+    "on each side), `room_separation` = 1.5 m apart: with `furniture_probability` = 0.85 a CC0 model from Debian "
     "`sweethome3d-furniture` (BlendSwap-CC-0.sh3f: living room, bedroom, kitchen, office and "
     "bathroom items at their catalogued size), else a box or rounded block.",
     true, [](const ConfigNode* c) -> std::unique_ptr<Randomizer> {

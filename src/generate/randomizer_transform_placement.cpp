@@ -45,15 +45,26 @@ class TransformPlacement final : public Randomizer {
   }
 
  private:
-  // Wheels on the floor, upright, at least `room_separation` apart in the middle of the room;
-  // people who do not fit are left out.
+  // Wheels on the floor, upright, at least `room_separation` apart in the middle of the room
+  // and clear of the furniture (its footprint radius plus 0.5 m for the chair; catalogue models,
+  // whose size the draft does not hold, count as 0.8 m); people who do not fit are left out.
   void place_in_room(FrameDraft& f, RandomStream& rng) const {
     const float w = f.room.size.x() * 0.6f, d = f.room.size.y() * 0.6f;
-    const auto points = poisson_disk(w, d, static_cast<float>(room_separation_), rng);
+    std::vector<Eigen::Vector2f> points;
+    for (const Eigen::Vector2f& p : poisson_disk(w, d, static_cast<float>(room_separation_), rng)) {
+      const Eigen::Vector2f at(p.x() - w / 2, p.y() - d / 2);
+      bool clear = true;
+      for (const ObjectDraft& o : f.objects) {
+        const float radius =
+            o.furniture >= 0 ? 0.8f : 0.5f * std::max(o.scale.x(), o.scale.z()) * 1.4142f;
+        if ((Eigen::Vector2f(o.position.x(), o.position.z()) - at).norm() < radius + 0.5f) clear = false;
+      }
+      if (clear) points.push_back(at);
+    }
     if (f.people.size() > points.size()) f.people.resize(points.size());
     for (std::size_t i = 0; i < f.people.size(); ++i) {
       PersonDraft& p = f.people[i];
-      p.position = Eigen::Vector3f(points[i].x() - w / 2, 0.0f, points[i].y() - d / 2);
+      p.position = Eigen::Vector3f(points[i].x(), 0.0f, points[i].y());
       p.rotation = Eigen::Quaternionf(
           Eigen::AngleAxisf(static_cast<float>(rng.uniform(0, 2 * M_PI)), Eigen::Vector3f::UnitY()));
       p.scale = 1.0f;
@@ -73,7 +84,8 @@ extern const RandomizerEntry kTransformPlacementRandomizer = {
     "U(−4, 1)) m, rotated by Euler angles `rotation_x` U(0, 20), `rotation_y` U(0, 360), "
     "`rotation_z` U(0, 20) degrees, scaled uniformly by `size` U(0.5, 3) (the authors' people "
     "float and may intersect). Room layout: wheels on the floor, upright, random heading, "
-    "Poisson-disk points `room_separation` = 1.2 m apart in the middle 60 % of the room, "
+    "Poisson-disk points `room_separation` = 1.2 m apart in the middle 60 % of the room "
+    "and clear of the furniture (footprint radius + 0.5 m), "
     "true size; people beyond the points that fit are left out.",
     true, [](const ConfigNode* c) -> std::unique_ptr<Randomizer> {
       return std::make_unique<TransformPlacement>(c);
