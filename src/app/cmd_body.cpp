@@ -111,7 +111,9 @@ void attach_body(CLI::App& parent) {
                     "Overrides k=v: gender, age, muscle, weight, height, proportions, african, "
                     "asian, caucasian, skin_tone, wheelchair=manual|sport|power, "
                     "left_leg/right_leg=none|below_knee|above_knee, "
-                    "left_arm/right_arm=none|below_elbow|above_elbow");
+                    "left_arm/right_arm=none|below_elbow|above_elbow, "
+                    "mobility_aid=none|cane|crutches|walker, "
+                    "wear=clothes/<name>|hair/<name>|eyebrows/<name> (repeatable)");
     sub->add_option("--assets", options->assets, "Asset root holding makehuman/");
     sub->add_option("--out", options->out, "Output")->required();
   };

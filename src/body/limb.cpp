@@ -88,11 +88,9 @@ std::vector<int> absent_joints(const LimbCuts& cuts) {
   return out;
 }
 
-CutResult cut_limbs(const Rig& rig, const BoneFrames& bones,
-                    const std::vector<Eigen::Vector3f>& rest, const std::vector<int>& vertex_ids,
-                    const std::vector<std::array<unsigned, 3>>& triangles, const LimbCuts& cuts) {
-  CutResult result;
-  result.removed.assign(rest.size(), false);
+std::vector<int> limbs_beyond_cuts(const Rig& rig, const BoneFrames& bones,
+                                   const std::vector<Eigen::Vector3f>& rest,
+                                   const std::vector<int>& vertex_ids, const LimbCuts& cuts) {
   std::vector<int> limb_of(rest.size(), -1);
   for (int i = 0; i < 4; ++i) {
     if (cuts[i] == Cut::kNone) continue;
@@ -106,12 +104,19 @@ CutResult cut_limbs(const Rig& rig, const BoneFrames& bones,
     for (std::size_t v = 0; v < rest.size(); ++v) {
       // Only vertices skinned mostly to this limb, beyond the plane.
       const int dominant = rig.influence_bone[vertex_ids[v]][0];
-      if (limb_bones.count(dominant) && (rest[v] - plane).dot(normal) > 0) {
-        result.removed[v] = true;
-        limb_of[v] = i;
-      }
+      if (limb_bones.count(dominant) && (rest[v] - plane).dot(normal) > 0) limb_of[v] = i;
     }
   }
+  return limb_of;
+}
+
+CutResult cut_limbs(const Rig& rig, const BoneFrames& bones,
+                    const std::vector<Eigen::Vector3f>& rest, const std::vector<int>& vertex_ids,
+                    const std::vector<std::array<unsigned, 3>>& triangles, const LimbCuts& cuts) {
+  CutResult result;
+  const std::vector<int> limb_of = limbs_beyond_cuts(rig, bones, rest, vertex_ids, cuts);
+  result.removed.resize(rest.size());
+  for (std::size_t v = 0; v < rest.size(); ++v) result.removed[v] = limb_of[v] >= 0;
   // Keep triangles with no removed vertex; edges they share with dropped triangles form the rims.
   std::map<std::pair<unsigned, unsigned>, int>
       rim_edges;  // directed edge of a kept triangle -> limb

@@ -26,6 +26,13 @@ std::string cut_name(Limb limb, Cut cut);
 // Our joints (motion::Joint) beyond the cuts.
 std::vector<int> absent_joints(const LimbCuts& cuts);
 
+// Per vertex (rest pose, `vertex_ids` = base-mesh ids for the skin weights): the limb (Limb
+// index) whose cut removes it, or -1. A vertex goes when it is skinned mostly to the limb and lies
+// beyond the cut plane across the bone (40 % down the shin/forearm, 55 % down the thigh/arm).
+std::vector<int> limbs_beyond_cuts(const Rig& rig, const BoneFrames& bones,
+                                   const std::vector<Eigen::Vector3f>& rest,
+                                   const std::vector<int>& vertex_ids, const LimbCuts& cuts);
+
 // Removes the cut parts from a triangle mesh over body vertices `rest` (rest pose, with rig
 // bones `bones`; `vertex_ids` maps mesh vertex -> base-mesh vertex for the skin weights) and
 // caps each opening. Returns the new triangles; cap centres are appended to `rest_out` as new

@@ -38,7 +38,7 @@ Eigen::Vector3f group_mean(const BaseMesh& base, const std::string& group) {
 }  // namespace
 
 BodyData::BodyData(const fs::path& assets_root)
-    : model_(assets_root), rig_(load_rig(model_.root(), model_.base())) {
+    : model_(assets_root), rig_(load_rig(model_.root(), model_.base())), proxies_(model_.root()) {
   const BaseMesh& base = model_.base();
   std::set<int> used;
   for (const auto& q : base.body_quads) used.insert(q.begin(), q.end());
@@ -114,6 +114,8 @@ void apply_overrides(PersonSpec& spec, const std::vector<std::string>& overrides
     const std::string key = kv.substr(0, eq), value = kv.substr(eq + 1);
     if (key == "wheelchair") {
       spec.wheelchair = wheelchair_type_from_name(value);
+    } else if (key == "wear") {
+      spec.proxies.push_back(value);
     } else if (key == "mobility_aid") {
       spec.mobility_aid = mobility_aid_from_name(value);
     } else if (key.ends_with("_leg") || key.ends_with("_arm")) {
@@ -161,6 +163,24 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
   person.posed_bones = pose_bones(rig, person.rest_bones, pose);
   const std::vector<Eigen::Vector3f> posed = skin(rig, person.rest_bones, pose, morphed);
   const std::vector<int>& body = data.body_vertices();
+  // Worn proxies and the base vertices they cover (hidden so skin does not poke through).
+  std::vector<const Proxy*> worn;
+  std::vector<bool> covered(morphed.size(), false);
+  for (const std::string& name : spec.proxies) {
+    worn.push_back(&data.proxies().get(name));
+    for (int v : worn.back()->delete_verts)
+      if (v >= 0 && static_cast<std::size_t>(v) < covered.size()) covered[v] = true;
+  }
+  // Base vertices (helpers included: clothes are fitted to the helper tights) beyond a cut.
+  std::vector<bool> removed_base(morphed.size(), false);
+  if (!worn.empty() && std::any_of(spec.limbs.begin(), spec.limbs.end(),
+                                   [](Cut c) { return c != Cut::kNone; })) {
+    std::vector<int> all(morphed.size());
+    for (std::size_t v = 0; v < all.size(); ++v) all[v] = static_cast<int>(v);
+    const std::vector<int> limb_of =
+        limbs_beyond_cuts(rig, person.rest_bones, morphed, all, spec.limbs);
+    for (std::size_t v = 0; v < all.size(); ++v) removed_base[v] = limb_of[v] >= 0;
+  }
   {
     std::vector<Eigen::Vector3f> rest_body;
     rest_body.reserve(body.size());
@@ -187,8 +207,24 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
       person.rest_vertices.push_back(r / n);
     }
     person.triangles.reserve(cut.triangles.size());
-    for (const auto& t : cut.triangles)
+    auto hidden = [&](unsigned local) { return local < body.size() && covered[body[local]]; };
+    for (const auto& t : cut.triangles) {
+      if (hidden(t[0]) || hidden(t[1]) || hidden(t[2])) continue;
       person.triangles.push_back({remap[t[0]], remap[t[1]], remap[t[2]]});
+    }
+  }
+  for (const Proxy* proxy : worn) {
+    Garment g;
+    g.name = proxy->name;
+    g.vertices = fit_proxy(*proxy, morphed, posed);
+    g.rest_vertices = fit_proxy(*proxy, morphed, morphed);
+    for (const auto& t : proxy->triangles) {
+      bool on_removed_limb = false;
+      for (unsigned c : t)
+        for (int r : proxy->refs[c]) on_removed_limb = on_removed_limb || removed_base[r];
+      if (!on_removed_limb) g.triangles.push_back(t);
+    }
+    person.garments.push_back(std::move(g));
   }
   person.joints = skeleton_joints(rig, person.posed_bones);
   person.skin = skin_colour(spec.params.skin_tone);
@@ -282,6 +318,8 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
     person.aid = make_mobility_aid(spec.mobility_aid, anchors, aid_stream);
   };
   for (auto& v : person.vertices) v += shift;
+  for (auto& g : person.garments)
+    for (auto& v : g.vertices) v += shift;
   for (auto& j : person.joints) j += shift.cast<double>();
   for (auto& k : person.coco) k += shift;
   for (auto& k : person.raised_hips) k += shift;
@@ -310,6 +348,7 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
   d["rig"] = "mpfb2 game_engine (53 bones)";
   d["wheelchair"] = person.chair.dimensions;
   d["mobility_aid"] = mobility_aid_name(person.aid.type);
+  d["proxies"] = spec.proxies;
   nlohmann::ordered_json kp;
   for (int k = 0; k < kCocoCount; ++k) kp[coco_names()[k]] = vec(person.coco[k]);
   d["coco_keypoints"] = kp;
@@ -480,6 +519,14 @@ void write_person_glb(const Person& person, const BodyData& /*data*/, const fs::
   parts.meshes.push_back(make_ai_mesh("body", person.vertices, &normals, person.triangles, 0));
   add_chair(parts, person.chair);
   add_primitives(parts, person.aid.parts, person.aid.colours, "mobility_aid", {"frame", "grips"});
+  for (const Garment& g : person.garments) {
+    if (g.triangles.empty()) continue;
+    const std::string name = g.name.substr(g.name.find('/') + 1);
+    parts.materials.push_back(make_material(name + "_material", {0.35f, 0.38f, 0.45f}));
+    const auto garment_normals = vertex_normals(g.vertices, g.triangles);
+    parts.meshes.push_back(make_ai_mesh(name, g.vertices, &garment_normals, g.triangles,
+                                        static_cast<unsigned>(parts.materials.size() - 1)));
+  }
   for (int k = 0; k < kCocoCount; ++k) {
     if (!person.coco_present[k]) continue;
     parts.markers.emplace_back(std::string("kp_") + coco_names()[k], person.coco[k]);

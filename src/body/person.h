@@ -11,6 +11,7 @@
 #include "body/human.h"
 #include "body/limb.h"
 #include "body/mobility_aid.h"
+#include "body/proxy.h"
 #include "body/rig.h"
 #include "body/wheelchair.h"
 #include "motion/clip.h"
@@ -27,6 +28,8 @@ class BodyData {
   explicit BodyData(const std::filesystem::path& assets_root);
   const HumanModel& model() const { return model_; }
   const Rig& rig() const { return rig_; }
+  // Clothes, shoes, hair and eyebrow proxies under makehuman/, loaded on first use.
+  const ProxyLibrary& proxies() const { return proxies_; }
   // Base-mesh vertices used by the visible body (helper geometry excluded), ascending.
   const std::vector<int>& body_vertices() const { return body_vertices_; }
   // Body triangles indexed into body_vertices().
@@ -37,6 +40,7 @@ class BodyData {
  private:
   HumanModel model_;
   Rig rig_;
+  ProxyLibrary proxies_;
   std::vector<int> body_vertices_;
   std::vector<std::array<unsigned, 3>> triangles_;
   std::array<std::vector<int>, 5> face_;
@@ -50,18 +54,29 @@ struct PersonSpec {
   std::optional<motion::PoseRotations> pose;
   LimbCuts limbs{};  // limb difference, none by default
   MobilityAidType mobility_aid = MobilityAidType::kNone;
+  // MakeHuman proxies to wear, as "<folder>/<name>" (e.g. "clothes/male_casualsuit01",
+  // "hair/short02"); the body hides the skin they cover.
+  std::vector<std::string> proxies;
 };
 
 // Random macro parameters and wheelchair type for `seed` (RandomStream(seed, {"body", ...})).
 PersonSpec sample_spec(std::uint64_t seed);
 // Applies "k=v" overrides (body parameters, wheelchair=manual|sport|power,
 // left_leg/right_leg=none|below_knee|above_knee, left_arm/right_arm=none|below_elbow|above_elbow,
-// mobility_aid=none|cane|crutches|walker); throws Error.
+// mobility_aid=none|cane|crutches|walker, wear=<folder>/<proxy> repeatable); throws Error.
 void apply_overrides(PersonSpec& spec, const std::vector<std::string>& overrides);
 
 // Rest seated pose: thighs 35 degrees above horizontal, shins down, feet flat, upper arms down,
 // forearms forward over the lap.
 motion::PoseRotations rest_seated_pose();
+
+// One worn proxy fitted to the posed body.
+struct Garment {
+  std::string name;                                // "<folder>/<name>"
+  std::vector<Eigen::Vector3f> vertices;           // posed, metres
+  std::vector<Eigen::Vector3f> rest_vertices;      // fitted to the unposed body (for UVs)
+  std::vector<std::array<unsigned, 3>> triangles;  // without faces on a removed limb
+};
 
 struct Person {
   std::vector<Eigen::Vector3f> vertices;           // posed visible body vertices, metres
@@ -75,6 +90,7 @@ struct Person {
   Eigen::Vector3f skin = Eigen::Vector3f::Ones();
   Wheelchair chair;
   MobilityAid aid;  // held in the hands (or standing in front), empty when none
+  std::vector<Garment> garments;  // in PersonSpec::proxies order
   nlohmann::ordered_json description;  // parameters, chair dimensions, keypoints
 };
 

@@ -200,7 +200,14 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
   std::vector<Vector3f> world(person.vertices.size());
   for (std::size_t v = 0; v < world.size(); ++v) world[v] = to_world * person.vertices[v];
   const std::vector<Vector3f> normals = body::vertex_normals(world, person.triangles);
-  const std::vector<Garment> garment = vertex_garments(person, body_data.rig(), p.outfit);
+  // A worn suit covers the body: what shows of it is skin. Otherwise paint the body by bone.
+  const bool suited = std::any_of(person.garments.begin(), person.garments.end(), [](const body::Garment& g) {
+    return g.name.rfind("clothes/", 0) == 0 && g.name.find("shoes") == std::string::npos &&
+           (g.name.rfind("clothes/male_", 0) == 0 || g.name.rfind("clothes/female_", 0) == 0);
+  });
+  const std::vector<Garment> garment =
+      suited ? std::vector<Garment>(person.rest_vertices.size(), kSkin)
+             : vertex_garments(person, body_data.rig(), p.outfit);
   static const char* kGarmentNames[] = {"skin", "top", "bottom", "shoes"};
   for (int g = kSkin; g <= kShoes; ++g) {
     scene::Mesh mesh;
@@ -232,6 +239,29 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
       material = g == kTop ? p.outfit.top : g == kBottom ? p.outfit.bottom : p.outfit.shoes;
       material.name = mesh.name;
     }
+    out.add_instance(mesh.name, out.add_mesh(std::move(mesh)), out.add_material(material),
+                     Eigen::Matrix4f::Identity(), id, kSemanticPerson);
+  }
+  for (std::size_t gi = 0; gi < person.garments.size(); ++gi) {
+    const body::Garment& g = person.garments[gi];
+    if (g.triangles.empty()) continue;
+    scene::Mesh mesh;
+    mesh.name = name + "_" + g.name.substr(g.name.find('/') + 1);
+    mesh.positions.reserve(g.vertices.size());
+    for (const Vector3f& v : g.vertices) mesh.positions.push_back(to_world * v);
+    std::vector<std::array<unsigned, 3>> tris = g.triangles;
+    mesh.normals = body::vertex_normals(mesh.positions, tris);
+    for (const Vector3f& r : g.rest_vertices) mesh.uvs.push_back(body_uv(r));
+    for (const auto& t : tris)
+      mesh.triangles.emplace_back(static_cast<int>(t[0]), static_cast<int>(t[1]), static_cast<int>(t[2]));
+    const bool hair = g.name.rfind("hair/", 0) == 0 || g.name.rfind("eyebrows/", 0) == 0;
+    const bool shoes = g.name.find("shoes") != std::string::npos;
+    const bool suit = g.name.rfind("clothes/male_", 0) == 0 || g.name.rfind("clothes/female_", 0) == 0;
+    scene::Material material = hair    ? p.outfit.hair
+                               : shoes ? p.outfit.shoes
+                               : suit  ? p.outfit.top
+                                       : p.outfit.bottom;  // hats
+    material.name = mesh.name;
     out.add_instance(mesh.name, out.add_mesh(std::move(mesh)), out.add_material(material),
                      Eigen::Matrix4f::Identity(), id, kSemanticPerson);
   }

@@ -22,6 +22,8 @@ struct RandomizerContext {
   std::vector<double> clip_durations;  // seconds
   int width = 1280, height = 720;
   int furniture_count = 0;  // models in the furniture catalog (0 = none installed)
+  // MakeHuman proxies available ("clothes/<name>", "hair/<name>", "eyebrows/<name>"), sorted.
+  std::vector<std::string> clothes, hair, eyebrows;
 };
 
 class Randomizer {

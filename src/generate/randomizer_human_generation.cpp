@@ -52,11 +52,29 @@ class HumanGeneration final : public Randomizer {
         age_(sampler_or(c, "age", ScalarSampler::uniform(10, 100), 1, 120)),
         height_(sampler_or(c, "height", ScalarSampler::uniform(0.1, 1), 0, 1)),
         weight_(sampler_or(c, "weight", ScalarSampler::uniform(0, 1), 0, 1)),
-        gender_(sampler_or(c, "gender", ScalarSampler::categorical({0.0, 1.0}, {1, 1}), 0, 1)) {
+        gender_(sampler_or(c, "gender", ScalarSampler::categorical({0.0, 1.0}, {1, 1}), 0, 1)),
+        clothing_(number_or(c, "clothing_probability", 1.0, 0.0, 1.0)),
+        hair_(number_or(c, "hair_probability", 0.85, 0.0, 1.0)),
+        hat_(number_or(c, "hat_probability", 0.1, 0.0, 1.0)) {
     if (max_count_ < min_count_) c->fail("max_per_frame is below min_per_frame");
   }
 
-  void apply(FrameDraft& f, RandomStream& rng, const RandomizerContext&) const override {
+  void apply(FrameDraft& f, RandomStream& rng, const RandomizerContext& ctx) const override {
+    // The proxy lists by kind: suits by sex, shoes, hats (anything else under clothes/).
+    std::vector<std::string> male, female, shoes, hats;
+    for (const std::string& c : ctx.clothes) {
+      if (c.find("shoes") != std::string::npos) shoes.push_back(c);
+      else if (c.rfind("clothes/male_", 0) == 0) male.push_back(c);
+      else if (c.rfind("clothes/female_", 0) == 0) female.push_back(c);
+      else hats.push_back(c);
+    }
+    // One index per list, drawn whether or not the list is empty, so the draws after it do not
+    // depend on the installed assets.
+    auto pick = [](RandomStream& r, const std::vector<std::string>& from) {
+      const double u = r.uniform01();
+      return from.empty() ? std::string()
+                          : from[std::min(from.size() - 1, static_cast<std::size_t>(u * from.size()))];
+    };
     const std::int64_t pool = f.index / refresh_;
     const std::int64_t count =
         std::min<std::int64_t>(rng.uniform_int(min_count_, max_count_), pool_size_);
@@ -91,6 +109,30 @@ class HumanGeneration final : public Randomizer {
       p.outfit.shoes.diffuse = p.outfit.shoes.texture.color_a * 0.5f;
       p.outfit.long_sleeves = member.bernoulli(0.6);
       p.outfit.long_trousers = member.bernoulli(0.8);
+      // MakeHuman clothes, shoes, hair and eyebrows (CC0 proxies fitted to the body).
+      const bool clothed = member.bernoulli(clothing_);
+      const bool has_hair = member.bernoulli(hair_);
+      const bool has_hat = member.bernoulli(hat_);
+      const std::string suit = pick(member, m.gender >= 0.5 ? (male.empty() ? female : male)
+                                                            : (female.empty() ? male : female));
+      const std::string shoe = pick(member, shoes), hat = pick(member, hats);
+      const std::string hair = pick(member, ctx.hair), brows = pick(member, ctx.eyebrows);
+      if (clothed) {
+        for (const std::string* proxy : {&suit, &shoe}) {
+          if (!proxy->empty()) p.spec.proxies.push_back(*proxy);
+        }
+      }
+      if (has_hair && !hair.empty() && !(has_hat && !hat.empty())) p.spec.proxies.push_back(hair);
+      if (has_hat && !hat.empty()) p.spec.proxies.push_back(hat);
+      if (!brows.empty()) p.spec.proxies.push_back(brows);
+      const double shade = member.uniform01();
+      p.outfit.hair.name = "hair";
+      p.outfit.hair.diffuse = shade < 0.45   ? Eigen::Vector3f(0.05f, 0.035f, 0.025f)
+                              : shade < 0.7  ? Eigen::Vector3f(0.25f, 0.14f, 0.07f)
+                              : shade < 0.85 ? Eigen::Vector3f(0.65f, 0.5f, 0.3f)
+                                             : Eigen::Vector3f(0.6f, 0.6f, 0.6f);
+      if (m.age_years > 60 && member.bernoulli(0.6)) p.outfit.hair.diffuse = Eigen::Vector3f(0.7f, 0.7f, 0.7f);
+      p.outfit.hair.specular = 0.15f;
       f.people.push_back(std::move(p));
     }
   }
@@ -99,12 +141,15 @@ class HumanGeneration final : public Randomizer {
     return {{"pool_size", pool_size_},       {"pool_refresh_frames", refresh_},
             {"min_per_frame", min_count_},   {"max_per_frame", max_count_},
             {"age", age_.describe()},        {"height", height_.describe()},
-            {"weight", weight_.describe()},  {"gender", gender_.describe()}};
+            {"weight", weight_.describe()},  {"gender", gender_.describe()},
+            {"clothing_probability", clothing_}, {"hair_probability", hair_},
+            {"hat_probability", hat_}};
   }
 
  private:
   long long pool_size_, refresh_, min_count_, max_count_;
   ScalarSampler age_, height_, weight_, gender_;
+  double clothing_, hair_, hat_;
 };
 
 }  // namespace
@@ -118,8 +163,14 @@ extern const RandomizerEntry kHumanGenerationRandomizer = {
     "`weight` U(0, 1) (normalised sliders), `gender` female/male, ethnicity uniform over the "
     "paper's five groups as blends of MakeHuman's African/Asian/Caucasian targets (Latin American "
     "0.2/0.3/0.5, Middle Eastern 0.15/0.15/0.7), skin tone from the blend ± N(0, 0.08), muscle and "
-    "proportions as `wheelpose body sample`; clothing: top, bottom and shoes with fabric, "
-    "stripe, checker or noise patterns, long or short sleeves (0.6) and trousers (0.8).",
+    "proportions as `wheelpose body sample`. Clothing: with `clothing_probability` = 1 a "
+    "MakeHuman CC0 suit for the person's sex and shoes, fitted through their `.mhclo` proxies "
+    "(the skin they cover is hidden), coloured with fabric, stripe, checker or noise patterns "
+    "(the assets carry no textures); `hair_probability` = 0.85 one of the hair proxies (dark, "
+    "brown, blond or grey; older people greyer), `hat_probability` = 0.1 a hat instead, and "
+    "eyebrows. Without proxies (or with `clothing_probability` 0) the body itself is painted "
+    "as top, bottom and shoes by nearest bone, with long or short sleeves (0.6) and trousers "
+    "(0.8).",
     true, [](const ConfigNode* c) -> std::unique_ptr<Randomizer> {
       return std::make_unique<HumanGeneration>(c);
     }};

@@ -177,7 +177,8 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
     threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
 
   const std::vector<motion::SeatedClip> clips = load_motion_clips(options.motions);
-  const body::BodyData body_data(body::locate_assets(options.assets));
+  const std::filesystem::path assets = body::locate_assets(options.assets);
+  const body::BodyData body_data(assets);
   const FurnitureCatalog furniture(FurnitureCatalog::default_archive());
 
   const fs::path out = options.out;
@@ -189,6 +190,9 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
   ordered_json record = provenance(scenario, options, clips);
   record["furniture"] = {{"archive", furniture.archive().string()},
                          {"models", furniture.items().size()}};
+  record["proxies"] = {{"clothes", body::list_proxies(assets / "makehuman", "clothes").size()},
+                       {"hair", body::list_proxies(assets / "makehuman", "hair").size()},
+                       {"eyebrows", body::list_proxies(assets / "makehuman", "eyebrows").size()}};
   const std::string record_text = record.dump(2) + "\n";
   const fs::path record_path = out / "scenario.json";
   if (options.resume && fs::exists(record_path) && read_file(record_path) != record_text) {
@@ -202,6 +206,9 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
   context.width = scenario.width;
   context.height = scenario.height;
   context.furniture_count = static_cast<int>(furniture.items().size());
+  context.clothes = body::list_proxies(assets / "makehuman", "clothes");
+  context.hair = body::list_proxies(assets / "makehuman", "hair");
+  context.eyebrows = body::list_proxies(assets / "makehuman", "eyebrows");
   for (const auto& c : clips) {
     context.clip_names.push_back(c.motion.name);
     context.clip_durations.push_back(static_cast<double>(c.motion.frame_count()) / c.motion.fps);
