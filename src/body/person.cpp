@@ -9,6 +9,7 @@
 #include <set>
 
 #include "body/assets.h"
+#include "body/rim_reach.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "motion/seating.h"
@@ -114,6 +115,9 @@ void apply_overrides(PersonSpec& spec, const std::vector<std::string>& overrides
     const std::string key = kv.substr(0, eq), value = kv.substr(eq + 1);
     if (key == "wheelchair") {
       spec.wheelchair = wheelchair_type_from_name(value);
+    } else if (key == "hands_on_rims") {
+      if (value != "0" && value != "1") throw Error("--params hands_on_rims=" + value + ": expected 0 or 1");
+      spec.hands_on_rims = value == "1";
     } else if (key == "wear") {
       spec.proxies.push_back(value);
     } else if (key == "mobility_aid") {
@@ -158,11 +162,27 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
   const Rig& rig = data.rig();
   const std::vector<Eigen::Vector3f> morphed = data.model().morph(spec.params);
   person.rest_bones = bone_positions(rig, morphed);
-  const RigPose pose =
-      retarget(rig, person.rest_bones, spec.pose ? *spec.pose : rest_seated_pose());
-  person.posed_bones = pose_bones(rig, person.rest_bones, pose);
-  const std::vector<Eigen::Vector3f> posed = skin(rig, person.rest_bones, pose, morphed);
+  RigPose pose = retarget(rig, person.rest_bones, spec.pose ? *spec.pose : rest_seated_pose());
   const std::vector<int>& body = data.body_vertices();
+
+  // The chair is fitted to the rest seated pose, so it does not change with the clip frame.
+  const RigPose seated = spec.pose ? retarget(rig, person.rest_bones, rest_seated_pose()) : pose;
+  const std::vector<Eigen::Vector3f> seated_vertices = skin(rig, person.rest_bones, seated, morphed);
+  const motion::Pose seated_joints = skeleton_joints(rig, pose_bones(rig, person.rest_bones, seated));
+  const SeatFit fit =
+      measure_seat_fit(seated_vertices, body, seated_joints[motion::kLeftHip].cast<float>(),
+                       seated_joints[motion::kRightHip].cast<float>(),
+                       seated_joints[motion::kLeftKnee].cast<float>(),
+                       seated_joints[motion::kLeftAnkle].cast<float>(),
+                       seated_joints[motion::kHeadBase].cast<float>());
+  RandomStream chair_stream(spec.seed, {"body", "wheelchair"});
+  person.chair = make_wheelchair(spec.wheelchair, fit, chair_stream);
+  // Pushing clips: the hands go to the rims (the chair is in the same, unshifted frame).
+  const bool on_rims = spec.hands_on_rims && reach_push_rims(rig, person.rest_bones, person.chair, pose) > 0;
+
+  person.posed_bones = pose_bones(rig, person.rest_bones, pose);
+  const std::vector<Eigen::Vector3f> posed =
+      spec.pose || on_rims ? skin(rig, person.rest_bones, pose, morphed) : seated_vertices;
   // Worn proxies and the base vertices they cover (hidden so skin does not poke through).
   std::vector<const Proxy*> worn;
   std::vector<bool> covered(morphed.size(), false);
@@ -284,26 +304,6 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
   const Eigen::Vector3f up = (joint(motion::kNeckBase) - joint(motion::kPelvis)).normalized();
   person.raised_hips = {joint(motion::kLeftHip) + 0.09f * up,
                         joint(motion::kRightHip) + 0.09f * up};
-
-  // The chair is fitted to the rest seated pose, so it does not change with the clip frame.
-  std::vector<Eigen::Vector3f> seated_vertices;
-  motion::Pose seated_joints;
-  if (spec.pose) {
-    const RigPose seated = retarget(rig, person.rest_bones, rest_seated_pose());
-    seated_vertices = skin(rig, person.rest_bones, seated, morphed);
-    seated_joints = skeleton_joints(rig, pose_bones(rig, person.rest_bones, seated));
-  } else {
-    seated_vertices = posed;
-    seated_joints = person.joints;
-  }
-  const SeatFit fit =
-      measure_seat_fit(seated_vertices, body, seated_joints[motion::kLeftHip].cast<float>(),
-                       seated_joints[motion::kRightHip].cast<float>(),
-                       seated_joints[motion::kLeftKnee].cast<float>(),
-                       seated_joints[motion::kLeftAnkle].cast<float>(),
-                       seated_joints[motion::kHeadBase].cast<float>());
-  RandomStream chair_stream(spec.seed, {"body", "wheelchair"});
-  person.chair = make_wheelchair(spec.wheelchair, fit, chair_stream);
 
   // Floor at y = 0.
   const Eigen::Vector3f shift(0, -person.chair.ground_y, 0);

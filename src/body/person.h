@@ -57,13 +57,16 @@ struct PersonSpec {
   // MakeHuman proxies to wear, as "<folder>/<name>" (e.g. "clothes/male_casualsuit01",
   // "hair/short02"); the body hides the skin they cover.
   std::vector<std::string> proxies;
+  // Pushing clips: bend the arms so the wrists meet the push rims (manual and sport chairs).
+  bool hands_on_rims = false;
 };
 
 // Random macro parameters and wheelchair type for `seed` (RandomStream(seed, {"body", ...})).
 PersonSpec sample_spec(std::uint64_t seed);
 // Applies "k=v" overrides (body parameters, wheelchair=manual|sport|power,
 // left_leg/right_leg=none|below_knee|above_knee, left_arm/right_arm=none|below_elbow|above_elbow,
-// mobility_aid=none|cane|crutches|walker, wear=<folder>/<proxy> repeatable); throws Error.
+// mobility_aid=none|cane|crutches|walker, wear=<folder>/<proxy> repeatable,
+// hands_on_rims=0|1); throws Error.
 void apply_overrides(PersonSpec& spec, const std::vector<std::string>& overrides);
 
 // Rest seated pose: thighs 35 degrees above horizontal, shins down, feet flat, upper arms down,

@@ -169,6 +169,16 @@ std::array<Vector3f, 4> chair_colours(const body::Wheelchair& chair,
   return c;
 }
 
+// Built-in clips in which both hands drive the push rims throughout; their people get the hands
+// placed on the rims (body::reach_push_rims). Clips from --motions keep their arms as recorded.
+bool pushes_the_rims(const std::string& clip) {
+  for (const char* name : {"push_rims_forward", "push_rims_backward", "turn_in_place",
+                           "turn_while_rolling", "wheelie", "extreme_ramp_drop"}) {
+    if (clip == name) return true;
+  }
+  return false;
+}
+
 motion::PoseRotations clip_pose(const motion::SeatedClip& clip, double time) {
   const std::size_t count = clip.motion.frame_count();
   const double f = std::floor(time * clip.motion.fps);
@@ -184,7 +194,10 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
   body::PersonSpec spec = p.spec;
   const motion::SeatedClip* clip =
       p.clip >= 0 && static_cast<std::size_t>(p.clip) < clips.size() ? &clips[p.clip] : nullptr;
-  if (clip != nullptr) spec.pose = clip_pose(*clip, p.time);
+  if (clip != nullptr) {
+    spec.pose = clip_pose(*clip, p.time);
+    spec.hands_on_rims = pushes_the_rims(clip->motion.name);
+  }
   const body::Person person = body::build_person(body_data, spec);
 
   const Vector3f pelvis = person.joints[motion::kPelvis].cast<float>();

@@ -29,7 +29,10 @@ extern const RandomizerEntry kNonTagAnimationRandomizer = {
     "NonTagAnimation",
     "Gives every person a clip drawn uniformly from the one pool of seated clips (the built-in "
     "library, a `--motions` folder, or the clips a `--clips-from` ranking keeps) and a time "
-    "U(0, duration); the pose is the clip's frame at that time. Root motion is not applied.",
+    "U(0, duration); the pose is the clip's frame at that time. Root motion is not applied. In "
+    "the built-in pushing clips (push_rims_forward/backward, turn_in_place, turn_while_rolling, "
+    "wheelie, extreme_ramp_drop) the arms are bent by IK so that the wrists meet the push rims "
+    "of manual and sport chairs.",
     true, [](const ConfigNode* c) -> std::unique_ptr<Randomizer> {
       return std::make_unique<NonTagAnimation>(c);
     }};
