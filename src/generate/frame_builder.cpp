@@ -268,9 +268,11 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
     for (const auto& t : tris)
       mesh.triangles.emplace_back(static_cast<int>(t[0]), static_cast<int>(t[1]), static_cast<int>(t[2]));
     const bool hair = g.name.rfind("hair/", 0) == 0 || g.name.rfind("eyebrows/", 0) == 0;
+    const bool eyes = g.name.rfind("eyes/", 0) == 0;
     const bool shoes = g.name.find("shoes") != std::string::npos;
     const bool suit = g.name.rfind("clothes/male_", 0) == 0 || g.name.rfind("clothes/female_", 0) == 0;
-    scene::Material material = hair    ? p.outfit.hair
+    scene::Material material = eyes    ? p.outfit.eyes
+                               : hair  ? p.outfit.hair
                                : shoes ? p.outfit.shoes
                                : suit  ? p.outfit.top
                                        : p.outfit.bottom;  // hats

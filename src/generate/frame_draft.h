@@ -28,7 +28,7 @@ struct ObjectDraft {
 
 // Garment colours and patterns of one person (the body mesh is split by nearest bone).
 struct Outfit {
-  scene::Material top, bottom, shoes, hair;
+  scene::Material top, bottom, shoes, hair, eyes;
   bool long_sleeves = true;
   bool long_trousers = true;
 };

@@ -23,7 +23,7 @@ struct RandomizerContext {
   int width = 1280, height = 720;
   int furniture_count = 0;  // models in the furniture catalog (0 = none installed)
   // MakeHuman proxies available ("clothes/<name>", "hair/<name>", "eyebrows/<name>"), sorted.
-  std::vector<std::string> clothes, hair, eyebrows;
+  std::vector<std::string> clothes, hair, eyebrows, eyes;
 };
 
 class Randomizer {

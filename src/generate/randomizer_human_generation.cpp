@@ -125,6 +125,16 @@ class HumanGeneration final : public Randomizer {
       if (has_hair && !hair.empty() && !(has_hat && !hat.empty())) p.spec.proxies.push_back(hair);
       if (has_hat && !hat.empty()) p.spec.proxies.push_back(hat);
       if (!brows.empty()) p.spec.proxies.push_back(brows);
+      // Eyes: the low-poly eyeballs (the assets' textures are absent, so an iris colour).
+      const auto eyes = std::find(ctx.eyes.begin(), ctx.eyes.end(), "eyes/low-poly");
+      if (eyes != ctx.eyes.end()) p.spec.proxies.push_back(*eyes);
+      const double iris = member.uniform01();
+      p.outfit.eyes.name = "eyes";
+      p.outfit.eyes.diffuse = iris < 0.6   ? Eigen::Vector3f(0.12f, 0.06f, 0.03f)
+                              : iris < 0.8 ? Eigen::Vector3f(0.15f, 0.25f, 0.4f)
+                                           : Eigen::Vector3f(0.15f, 0.25f, 0.12f);
+      p.outfit.eyes.specular = 0.6f;
+      p.outfit.eyes.shininess = 80.0f;
       const double shade = member.uniform01();
       p.outfit.hair.name = "hair";
       p.outfit.hair.diffuse = shade < 0.45   ? Eigen::Vector3f(0.05f, 0.035f, 0.025f)
@@ -168,7 +178,7 @@ extern const RandomizerEntry kHumanGenerationRandomizer = {
     "(the skin they cover is hidden), coloured with fabric, stripe, checker or noise patterns "
     "(the assets carry no textures); `hair_probability` = 0.85 one of the hair proxies (dark, "
     "brown, blond or grey; older people greyer), `hat_probability` = 0.1 a hat instead, and "
-    "eyebrows. Without proxies (or with `clothing_probability` 0) the body itself is painted "
+    "eyebrows and low-poly eyes (an iris colour: the assets' textures are absent). Without proxies (or with `clothing_probability` 0) the body itself is painted "
     "as top, bottom and shoes by nearest bone, with long or short sleeves (0.6) and trousers "
     "(0.8).",
     true, [](const ConfigNode* c) -> std::unique_ptr<Randomizer> {

@@ -209,6 +209,7 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
   context.clothes = body::list_proxies(assets / "makehuman", "clothes");
   context.hair = body::list_proxies(assets / "makehuman", "hair");
   context.eyebrows = body::list_proxies(assets / "makehuman", "eyebrows");
+  context.eyes = body::list_proxies(assets / "makehuman", "eyes");
   for (const auto& c : clips) {
     context.clip_names.push_back(c.motion.name);
     context.clip_durations.push_back(static_cast<double>(c.motion.frame_count()) / c.motion.fps);
