@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <nlohmann/json.hpp>
 
 #include "cli_runner.h"
 
@@ -37,6 +40,19 @@ TEST(BodyCli, SampleWritesCountPeople) {
   EXPECT_FALSE(read_text(dir / "person_0000.glb").empty());
   EXPECT_FALSE(read_text(dir / "person_0001.json").empty());
   EXPECT_NE(read_text(dir / "person_0000.json"), read_text(dir / "person_0001.json"));
+  // Dressed from the installed proxies, and pictured on a contact sheet (2 people: 2 x 1 tiles).
+  const auto description = nlohmann::json::parse(read_text(dir / "person_0000.json"));
+  EXPECT_GE(description["proxies"].size(), 3u);
+  const cv::Mat sheet = cv::imread((dir / "contact_sheet.png").string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(sheet.empty());
+  EXPECT_EQ(sheet.cols, 512);
+  EXPECT_EQ(sheet.rows, 256);
+  // Each tile shows somebody: not a flat grey picture.
+  for (int tile = 0; tile < 2; ++tile) {
+    cv::Scalar mean, stddev;
+    cv::meanStdDev(sheet(cv::Rect(256 * tile, 0, 256, 256)), mean, stddev);
+    EXPECT_GT(stddev[0], 10.0);
+  }
 }
 
 TEST(BodyCli, BadInputsExitTwoWithOneLine) {

@@ -8,12 +8,15 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <opencv2/core.hpp>
 #include <vector>
 
 #include "body/assets.h"
 #include "body/person.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "generate/portrait.h"
+#include "render/frame_io.h"
 #include "motion/clip_json.h"
 
 namespace wheelpose::app {
@@ -86,16 +89,21 @@ void run_sample(const BodyOptions& o) {
   if (o.count < 1) throw Error("body sample: --count must be at least 1");
   const body::BodyData data(body::locate_assets(explicit_assets(o)));
   ensure_directory(o.out);
+  std::vector<cv::Mat> portraits;
   for (int i = 0; i < o.count; ++i) {
     // Person i of seed S is the person of seed RandomStream(S, {"body_sample", i}).
     RandomStream stream(o.seed, {"body_sample", i});
     body::PersonSpec spec = body::sample_spec(stream.next_u64());
+    spec.proxies = body::sample_outfit(data.model().root(), spec.params.gender, spec.seed);
     body::apply_overrides(spec, o.params);
     char name[32];
     std::snprintf(name, sizeof(name), "person_%04d.glb", i);
     write_person(data, spec, fs::path(o.out) / name);
+    portraits.push_back(generate::render_portrait(data, spec, 256));
   }
-  spdlog::info("wrote {} people to {}", o.count, o.out);
+  write_file_atomic(fs::path(o.out) / "contact_sheet.png",
+                    render::encode_png(generate::contact_sheet(portraits)));
+  spdlog::info("wrote {} people and contact_sheet.png to {}", o.count, o.out);
 }
 
 }  // namespace

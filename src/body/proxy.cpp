@@ -7,6 +7,7 @@
 
 #include "body/assets.h"
 #include "core/error.h"
+#include "core/random.h"
 
 namespace wheelpose::body {
 namespace {
@@ -170,6 +171,32 @@ std::vector<std::string> list_proxies(const fs::path& makehuman_root, const std:
   }
   std::sort(names.begin(), names.end());
   return names;
+}
+
+std::vector<std::string> sample_outfit(const fs::path& root, double gender, std::uint64_t seed) {
+  RandomStream rng(seed, {"outfit"});
+  std::vector<std::string> suits, shoes;
+  const std::string sex = gender >= 0.5 ? "clothes/male_" : "clothes/female_";
+  for (const std::string& c : list_proxies(root, "clothes")) {
+    if (c.find("shoes") != std::string::npos) shoes.push_back(c);
+    else if (c.rfind(sex, 0) == 0) suits.push_back(c);
+  }
+  const std::vector<std::string> hair = list_proxies(root, "hair");
+  const std::vector<std::string> brows = list_proxies(root, "eyebrows");
+  auto pick = [&rng](const std::vector<std::string>& from) {
+    const double u = rng.uniform01();  // drawn even for an empty list: later draws stay put
+    return from.empty() ? std::string()
+                        : from[std::min(from.size() - 1, static_cast<std::size_t>(u * from.size()))];
+  };
+  std::vector<std::string> out;
+  const bool has_hair = rng.bernoulli(0.85);
+  for (const std::string& p : {pick(suits), pick(shoes), has_hair ? pick(hair) : std::string(),
+                               pick(brows)}) {
+    if (!p.empty()) out.push_back(p);
+  }
+  std::error_code ec;
+  if (fs::is_regular_file(root / "eyes/low-poly/low-poly.mhclo", ec)) out.push_back("eyes/low-poly");
+  return out;
 }
 
 const Proxy& ProxyLibrary::get(const std::string& name) const {

@@ -40,6 +40,11 @@ std::vector<Eigen::Vector3f> fit_proxy(const Proxy& proxy, const std::vector<Eig
 std::vector<std::string> list_proxies(const std::filesystem::path& makehuman_root,
                                       const std::string& folder);
 
+// A plausible outfit from what is installed: a suit for the sex (gender ≥ 0.5: male_*), shoes,
+// hair (p = 0.85), eyebrows and the low-poly eyes; drawn from RandomStream(seed, {"outfit"}).
+std::vector<std::string> sample_outfit(const std::filesystem::path& makehuman_root, double gender,
+                                       std::uint64_t seed);
+
 // Loads proxies by name on first use and keeps them (thread-safe).
 class ProxyLibrary {
  public:
