@@ -73,9 +73,9 @@ TEST(MobilityAid, WalkerStandsOnTheFloorInFrontOfTheKnees) {
     EXPECT_GT(part.centre.z(), knees_z);
   }
   // Nothing of the walker inside the body's knees region: its legs clear the shins.
-  EXPECT_LT(max_penetration(Wheelchair{WheelchairType::kManual, p.aid.parts, p.aid.colours, 0, {}},
-                            p.vertices),
-            0.01f);
+  Wheelchair walker;
+  walker.parts = p.aid.parts;
+  EXPECT_LT(max_penetration(walker, p.vertices), 0.01f);
 }
 
 TEST(MobilityAid, NamesRoundTripAndGarbageIsRejected) {

@@ -326,6 +326,7 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
   for (auto& h : person.posed_bones.head) h += shift;
   for (auto& t : person.posed_bones.tail) t += shift;
   for (auto& p : person.chair.parts) p.centre += shift;
+  for (auto& v : person.chair.model.vertices) v += shift;
   person.chair.ground_y = 0;
   place_aid();
 
@@ -469,6 +470,14 @@ void add_primitives(SceneParts& parts, const std::vector<Primitive>& prims,
 }
 
 void add_chair(SceneParts& parts, const Wheelchair& chair) {
+  if (!chair.model.vertices.empty()) {
+    parts.materials.push_back(make_material("wheelchair_cc_by_material", chair.colours[0]));
+    const auto normals = vertex_normals(chair.model.vertices, chair.model.triangles);
+    parts.meshes.push_back(make_ai_mesh("wheelchair_cc_by", chair.model.vertices, &normals,
+                                        chair.model.triangles,
+                                        static_cast<unsigned>(parts.materials.size() - 1)));
+    return;
+  }
   add_primitives(parts, chair.parts, chair.colours, "wheelchair",
                  {"frame", "upholstery", "tyre", "trim"});
 }

@@ -189,3 +189,26 @@ TEST(LimbDifference, CutsCapsAndMarksJointsAbsent) {
 
 }  // namespace
 }  // namespace wheelpose::body
+
+namespace wheelpose::body {
+namespace {
+
+// The CC-BY model carries the person: its seat surface at the fitted seat height, on the floor.
+TEST(Person, CcByChairIsScaledUnderTheSeat) {
+  PersonSpec spec = sample_spec(5);
+  spec.wheelchair = WheelchairType::kCcBy;
+  const Person p = build_person(testing::body_data(), spec);
+  ASSERT_FALSE(p.chair.model.vertices.empty());
+  EXPECT_TRUE(p.chair.parts.empty());
+  float lowest = 1e9f;
+  for (const auto& v : p.chair.model.vertices) lowest = std::min(lowest, v.y());
+  EXPECT_NEAR(lowest, 0.0f, 1e-4f);
+  EXPECT_NEAR(seat_surface_height(p.chair.model), p.chair.dimensions["seat_height"].get<float>(), 0.012f);
+  const float scale = p.chair.dimensions["scale"].get<float>();
+  EXPECT_GT(scale, 0.6f);
+  EXPECT_LT(scale, 1.6f);
+  EXPECT_EQ(wheelchair_type_from_name("cc_by"), WheelchairType::kCcBy);
+}
+
+}  // namespace
+}  // namespace wheelpose::body

@@ -100,6 +100,8 @@ const char* wheelchair_type_name(WheelchairType type) {
       return "sport";
     case WheelchairType::kPower:
       return "power";
+    case WheelchairType::kCcBy:
+      return "cc_by";
   }
   return "manual";
 }
@@ -108,7 +110,8 @@ WheelchairType wheelchair_type_from_name(const std::string& name) {
   if (name == "manual") return WheelchairType::kManual;
   if (name == "sport") return WheelchairType::kSport;
   if (name == "power") return WheelchairType::kPower;
-  throw Error("wheelchair '" + name + "': unknown type (manual, sport, power)");
+  if (name == "cc_by") return WheelchairType::kCcBy;
+  throw Error("wheelchair '" + name + "': unknown type (manual, sport, power, cc_by)");
 }
 
 SeatFit measure_seat_fit(const std::vector<Eigen::Vector3f>& v, const std::vector<int>& body,
@@ -181,7 +184,55 @@ SeatFit measure_seat_fit(const std::vector<Eigen::Vector3f>& v, const std::vecto
   return f;
 }
 
+namespace {
+
+// The CC-BY model under a fitted manual chair's seat: scaled uniformly so that its seat surface
+// is at the fitted seat top, its back at the fitted back, centred under the hips.
+Wheelchair place_cc_by(Wheelchair manual, const SeatFit& fit) {
+  static const TriMesh model = load_cc_by_wheelchair();
+  static const float seat = seat_surface_height(model);
+  const float ground = manual.ground_y;
+  const float scale = (fit.seat_top - 0.003f - ground) / seat;
+  Wheelchair c;
+  c.type = WheelchairType::kCcBy;
+  c.ground_y = ground;
+  c.colours = {Eigen::Vector3f(0.4f, 0.4f, 0.42f)};
+  c.model = model;
+  for (auto& v : c.model.vertices)
+    v = Eigen::Vector3f(v.x() * scale, ground + v.y() * scale, fit.back_z - 0.01f + v.z() * scale);
+  c.dimensions = {{"type", "cc_by"},
+                  {"model", kCcByWheelchairCredit},
+                  {"scale", std::round(scale * 1e4) / 1e4},
+                  {"seat_height", std::round((fit.seat_top - ground) * 1e4) / 1e4}};
+  return c;
+}
+
+}  // namespace
+
+float seat_surface_height(const TriMesh& m) {
+  Eigen::Vector3f lo = m.vertices[0], hi = m.vertices[0];
+  for (const auto& v : m.vertices) {
+    lo = lo.cwiseMin(v);
+    hi = hi.cwiseMax(v);
+  }
+  const Eigen::Vector3f size = hi - lo;
+  std::vector<float> area(static_cast<std::size_t>(size.y() * 100) + 2, 0.0f);
+  for (const auto& t : m.triangles) {
+    const Eigen::Vector3f a = m.vertices[t[0]], b = m.vertices[t[1]], c = m.vertices[t[2]];
+    const Eigen::Vector3f n = (b - a).cross(c - a);
+    const Eigen::Vector3f centre = (a + b + c) / 3;
+    const Eigen::Vector3f rel = (centre - lo).cwiseQuotient(size);
+    if (n.norm() <= 0 || std::abs(n.y()) < 0.9f * n.norm()) continue;  // not horizontal
+    if (rel.x() < 0.25f || rel.x() > 0.75f || rel.z() < 0.2f || rel.z() > 0.8f) continue;
+    if (rel.y() < 0.25f || rel.y() > 0.75f) continue;
+    area[static_cast<std::size_t>((centre.y() - lo.y()) * 100)] += 0.5f * n.norm();
+  }
+  const auto best = std::max_element(area.begin(), area.end()) - area.begin();
+  return lo.y() + (static_cast<float>(best) + 0.5f) / 100.0f;
+}
+
 Wheelchair make_wheelchair(WheelchairType type, const SeatFit& fit, RandomStream& s) {
+  if (type == WheelchairType::kCcBy) return place_cc_by(make_wheelchair(WheelchairType::kManual, fit, s), fit);
   Wheelchair c;
   c.type = type;
   c.colours = {random_colour(s, 0.05f, 0.9f), random_colour(s, 0.02f, 0.25f),
@@ -353,6 +404,7 @@ Primitive make_tube(const std::string& part, const Eigen::Vector3f& a, const Eig
 }
 
 TriMesh primitive_mesh(const Wheelchair& chair, int material) {
+  if (!chair.model.vertices.empty()) return material == 0 ? chair.model : TriMesh{};
   return primitive_mesh(chair.parts, material);
 }
 

@@ -13,7 +13,9 @@
 
 namespace wheelpose::body {
 
-enum class WheelchairType { kManual, kSport, kPower };
+// kCcBy: the CC-BY "Wheel Chair" model (see load_cc_by_wheelchair), scaled so that its seat
+// carries the body; it has no primitives, so no push rims and no exact inside test.
+enum class WheelchairType { kManual, kSport, kPower, kCcBy };
 const char* wheelchair_type_name(WheelchairType type);
 WheelchairType wheelchair_type_from_name(const std::string& name);  // throws Error
 
@@ -27,8 +29,15 @@ struct Primitive {
   int material = 0;             // index into Wheelchair::colours
 };
 
+struct TriMesh {
+  std::vector<Eigen::Vector3f> vertices;
+  std::vector<Eigen::Vector3f> normals;
+  std::vector<std::array<unsigned, 3>> triangles;
+};
+
 struct Wheelchair {
   WheelchairType type = WheelchairType::kManual;
+  TriMesh model;  // kCcBy only: the placed model (metres, this chair's frame)
   std::vector<Primitive> parts;
   std::vector<Eigen::Vector3f> colours;  // frame, upholstery, tyre, trim
   float ground_y = 0;                    // floor height under the chair
@@ -63,12 +72,7 @@ float inside_depth(const Primitive& prim, const Eigen::Vector3f& p);
 float max_penetration(const Wheelchair& chair, const std::vector<Eigen::Vector3f>& points,
                       std::string* part = nullptr);
 
-// Triangle mesh of all parts of one material.
-struct TriMesh {
-  std::vector<Eigen::Vector3f> vertices;
-  std::vector<Eigen::Vector3f> normals;
-  std::vector<std::array<unsigned, 3>> triangles;
-};
+// Triangle mesh of all parts of one material (material 0 of a CC-BY chair: its model).
 TriMesh primitive_mesh(const Wheelchair& chair, int material);
 TriMesh primitive_mesh(const std::vector<Primitive>& parts, int material);
 
@@ -83,6 +87,9 @@ TriMesh parse_obj_mesh(const std::string& text, const std::string& origin);
 // The CC-BY "Wheel Chair" by bgamage (sweethome3d-furniture, BlendSwap-CC-BY.sh3f), in metres,
 // standing on y = 0, centred in x, its back at z = 0 facing +Z.
 TriMesh load_cc_by_wheelchair();
+// Height of the model's seat surface: the height bin (1 cm) with the most upward-facing area in
+// the middle of the model, between 25 % and 75 % of its height.
+float seat_surface_height(const TriMesh& model);
 inline constexpr const char* kCcByWheelchairCredit =
     "\"Wheel Chair\" by bgamage (BlendSwap), CC-BY 3.0, via Debian package sweethome3d-furniture";
 

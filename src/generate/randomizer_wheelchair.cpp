@@ -10,8 +10,9 @@ class WheelchairRandomizer final : public Randomizer {
   explicit WheelchairRandomizer(const ConfigNode* c)
       : manual_(number_or(c, "manual_weight", 0.6, 0, 1e6)),
         sport_(number_or(c, "sport_weight", 0.15, 0, 1e6)),
-        power_(number_or(c, "power_weight", 0.25, 0, 1e6)) {
-    if (manual_ + sport_ + power_ <= 0) c->fail("the three weights add up to 0");
+        power_(number_or(c, "power_weight", 0.25, 0, 1e6)),
+        cc_by_(number_or(c, "cc_by_weight", 0.0, 0, 1e6)) {
+    if (manual_ + sport_ + power_ + cc_by_ <= 0) c->fail("the weights add up to 0");
   }
 
   void apply(FrameDraft& f, RandomStream&, const RandomizerContext&) const override {
@@ -23,10 +24,11 @@ class WheelchairRandomizer final : public Randomizer {
   }
 
   body::WheelchairType pick(RandomStream& rng) const {
-    const double u = rng.uniform01() * (manual_ + sport_ + power_);
-    return u < manual_           ? body::WheelchairType::kManual
-           : u < manual_ + sport_ ? body::WheelchairType::kSport
-                                  : body::WheelchairType::kPower;
+    const double u = rng.uniform01() * (manual_ + sport_ + power_ + cc_by_);
+    return u < manual_                    ? body::WheelchairType::kManual
+           : u < manual_ + sport_          ? body::WheelchairType::kSport
+           : u < manual_ + sport_ + power_ ? body::WheelchairType::kPower
+                                           : body::WheelchairType::kCcBy;
   }
 
   static std::array<Eigen::Vector3f, 4> colours(RandomStream& rng) {
@@ -40,11 +42,14 @@ class WheelchairRandomizer final : public Randomizer {
   }
 
   nlohmann::ordered_json parameters() const override {
-    return {{"manual_weight", manual_}, {"sport_weight", sport_}, {"power_weight", power_}};
+    return {{"manual_weight", manual_},
+            {"sport_weight", sport_},
+            {"power_weight", power_},
+            {"cc_by_weight", cc_by_}};
   }
 
  private:
-  double manual_, sport_, power_;
+  double manual_, sport_, power_, cc_by_;
 };
 
 }  // namespace
@@ -52,7 +57,9 @@ class WheelchairRandomizer final : public Randomizer {
 extern const RandomizerEntry kWheelchairRandomizer = {
     "Wheelchair",
     "Chooses each person's wheelchair type with weights `manual_weight` 0.6, `sport_weight` "
-    "0.15, `power_weight` 0.25, and its colours (frame U(0.05, 0.9), upholstery U(0.02, 0.4), "
+    "0.15, `power_weight` 0.25 and `cc_by_weight` 0 (the CC-BY \"Wheel Chair\" model by bgamage "
+    "from `sweethome3d-furniture`, scaled under the fitted seat; opt-in because anything "
+    "published with it must carry its credit), and its colours (frame U(0.05, 0.9), upholstery U(0.02, 0.4), "
     "tyres dark grey, trim U(0.3, 0.8) per channel). Dimensions are fitted to the body by the "
     "body stage. Fixed per pool member. New in WheelPose (the authors' chair was a cube "
     "placeholder).",
