@@ -310,3 +310,39 @@ echo 4242
 }
 
 }  // namespace
+
+namespace {
+
+// The raised-hips template moves only the hips, 9 cm (times the person's scale) up the torso.
+TEST(GenerateCli, RaisedHipsTemplateMovesOnlyTheHips) {
+  const fs::path dir = fresh_temp_dir("generate_raised_hips");
+  const fs::path config = write_scenario(dir);
+  std::string raised = kSmallScenario;
+  raised.replace(raised.find("labels: {"), 9, "labels: {keypoint_template: coco17-raised-hips, ");
+  std::ofstream(dir / "raised.yaml") << raised;
+  ASSERT_EQ(run_wheelpose(generate_args(config, dir / "plain", 2)).exit_code, 0);
+  const auto r = run_wheelpose(generate_args(dir / "raised.yaml", dir / "raised", 2));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json a = read_json(dir / "plain" / "annotations.json");
+  const json b = read_json(dir / "raised" / "annotations.json");
+  ASSERT_EQ(a["annotations"].size(), b["annotations"].size());
+  ASSERT_FALSE(a["annotations"].empty());
+  for (std::size_t i = 0; i < a["annotations"].size(); ++i) {
+    const auto p = a["annotations"][i]["keypoints_3d"].get<std::vector<double>>();
+    const auto q = b["annotations"][i]["keypoints_3d"].get<std::vector<double>>();
+    const double scale = a["annotations"][i]["scale"];
+    for (int k = 0; k < 17; ++k) {
+      const double d = std::hypot(p[3 * k] - q[3 * k], p[3 * k + 1] - q[3 * k + 1],
+                                  p[3 * k + 2] - q[3 * k + 2]);
+      if (k == 11 || k == 12) {
+        if (p[3 * k + 2] != 0) {
+          EXPECT_NEAR(d, 0.09 * scale, 0.002 * scale) << "keypoint " << k;
+        }
+      } else {
+        EXPECT_LT(d, 1e-9) << "keypoint " << k;
+      }
+    }
+  }
+}
+
+}  // namespace
