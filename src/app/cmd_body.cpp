@@ -15,6 +15,7 @@
 #include "body/person.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "dataset/coco_viz.h"
 #include "generate/portrait.h"
 #include "render/frame_io.h"
 #include "motion/clip_json.h"
@@ -89,7 +90,7 @@ void run_sample(const BodyOptions& o) {
   if (o.count < 1) throw Error("body sample: --count must be at least 1");
   const body::BodyData data(body::locate_assets(explicit_assets(o)));
   ensure_directory(o.out);
-  std::vector<cv::Mat> portraits;
+  dataset::ContactSheet sheet(static_cast<std::size_t>(o.count), cv::Size(256, 256));
   for (int i = 0; i < o.count; ++i) {
     // Person i of seed S is the person of seed RandomStream(S, {"body_sample", i}).
     RandomStream stream(o.seed, {"body_sample", i});
@@ -99,10 +100,9 @@ void run_sample(const BodyOptions& o) {
     char name[32];
     std::snprintf(name, sizeof(name), "person_%04d.glb", i);
     write_person(data, spec, fs::path(o.out) / name);
-    portraits.push_back(generate::render_portrait(data, spec, 256));
+    sheet.place(static_cast<std::size_t>(i), generate::render_portrait(data, spec, 256));
   }
-  write_file_atomic(fs::path(o.out) / "contact_sheet.png",
-                    render::encode_png(generate::contact_sheet(portraits)));
+  write_file_atomic(fs::path(o.out) / "contact_sheet.png", render::encode_png(sheet.image()));
   spdlog::info("wrote {} people and contact_sheet.png to {}", o.count, o.out);
 }
 

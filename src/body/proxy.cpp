@@ -6,43 +6,14 @@
 #include <sstream>
 
 #include "body/assets.h"
+#include "body/wheelchair.h"
 #include "core/error.h"
-#include "core/random.h"
 
 namespace wheelpose::body {
 namespace {
 
 namespace fs = std::filesystem;
 using Eigen::Vector3f;
-
-std::vector<std::array<unsigned, 3>> obj_triangles(const std::string& text, const std::string& where,
-                                                   std::size_t vertex_count) {
-  std::vector<std::array<unsigned, 3>> triangles;
-  std::istringstream in(text);
-  std::string line;
-  int line_no = 0;
-  std::size_t vertices = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (line.rfind("v ", 0) == 0) ++vertices;
-    if (line.rfind("f ", 0) != 0) continue;
-    std::istringstream ls(line.substr(2));
-    std::vector<unsigned> idx;
-    std::string token;
-    while (ls >> token) {
-      const long i = std::strtol(token.c_str(), nullptr, 10);
-      if (i < 1 || static_cast<std::size_t>(i) > vertex_count)
-        throw Error(where + ":" + std::to_string(line_no) + ": face index out of range");
-      idx.push_back(static_cast<unsigned>(i - 1));
-    }
-    for (std::size_t k = 2; k < idx.size(); ++k) triangles.push_back({idx[0], idx[k - 1], idx[k]});
-  }
-  if (vertices != vertex_count) {
-    throw Error(where + ": " + std::to_string(vertices) + " vertices but the .mhclo has " +
-                std::to_string(vertex_count));
-  }
-  return triangles;
-}
 
 // A frame of a reference triangle: two edges and the unit normal.
 Eigen::Matrix3f triangle_frame(const Vector3f& a, const Vector3f& b, const Vector3f& c) {
@@ -122,7 +93,12 @@ Proxy load_proxy(const fs::path& mhclo) {
   if (obj_file.empty()) throw Error(where + ": no obj_file");
   if (p.refs.empty()) throw Error(where + ": no verts section");
   const fs::path obj = mhclo.parent_path() / obj_file;
-  p.triangles = obj_triangles(read_asset(obj), obj.string(), p.refs.size());
+  const TriMesh mesh = parse_obj_mesh(read_asset(obj), obj.string());
+  if (mesh.vertices.size() != p.refs.size()) {
+    throw Error(obj.string() + ": " + std::to_string(mesh.vertices.size()) +
+                " vertices but the .mhclo has " + std::to_string(p.refs.size()));
+  }
+  p.triangles = mesh.triangles;
   return p;
 }
 
@@ -173,29 +149,39 @@ std::vector<std::string> list_proxies(const fs::path& makehuman_root, const std:
   return names;
 }
 
+ProxyCatalog ProxyCatalog::scan(const fs::path& root) {
+  ProxyCatalog c;
+  for (const std::string& name : list_proxies(root, "clothes")) {
+    if (name.find("shoes") != std::string::npos) c.shoes.push_back(name);
+    else if (name.rfind("clothes/male_", 0) == 0) c.male_suits.push_back(name);
+    else if (name.rfind("clothes/female_", 0) == 0) c.female_suits.push_back(name);
+    else c.hats.push_back(name);
+  }
+  c.hair = list_proxies(root, "hair");
+  c.eyebrows = list_proxies(root, "eyebrows");
+  c.eyes = list_proxies(root, "eyes");
+  return c;
+}
+
+std::string pick_proxy(RandomStream& rng, const std::vector<std::string>& from) {
+  const double u = rng.uniform01();
+  return from.empty() ? std::string()
+                      : from[std::min(from.size() - 1, static_cast<std::size_t>(u * from.size()))];
+}
+
 std::vector<std::string> sample_outfit(const fs::path& root, double gender, std::uint64_t seed) {
   RandomStream rng(seed, {"outfit"});
-  std::vector<std::string> suits, shoes;
-  const std::string sex = gender >= 0.5 ? "clothes/male_" : "clothes/female_";
-  for (const std::string& c : list_proxies(root, "clothes")) {
-    if (c.find("shoes") != std::string::npos) shoes.push_back(c);
-    else if (c.rfind(sex, 0) == 0) suits.push_back(c);
-  }
-  const std::vector<std::string> hair = list_proxies(root, "hair");
-  const std::vector<std::string> brows = list_proxies(root, "eyebrows");
-  auto pick = [&rng](const std::vector<std::string>& from) {
-    const double u = rng.uniform01();  // drawn even for an empty list: later draws stay put
-    return from.empty() ? std::string()
-                        : from[std::min(from.size() - 1, static_cast<std::size_t>(u * from.size()))];
-  };
+  const ProxyCatalog catalog = ProxyCatalog::scan(root);
+  const auto& suits = gender >= 0.5 ? catalog.male_suits : catalog.female_suits;
   std::vector<std::string> out;
   const bool has_hair = rng.bernoulli(0.85);
-  for (const std::string& p : {pick(suits), pick(shoes), has_hair ? pick(hair) : std::string(),
-                               pick(brows)}) {
+  for (const std::string& p :
+       {pick_proxy(rng, suits), pick_proxy(rng, catalog.shoes),
+        has_hair ? pick_proxy(rng, catalog.hair) : std::string(), pick_proxy(rng, catalog.eyebrows)}) {
     if (!p.empty()) out.push_back(p);
   }
-  std::error_code ec;
-  if (fs::is_regular_file(root / "eyes/low-poly/low-poly.mhclo", ec)) out.push_back("eyes/low-poly");
+  if (std::find(catalog.eyes.begin(), catalog.eyes.end(), "eyes/low-poly") != catalog.eyes.end())
+    out.push_back("eyes/low-poly");
   return out;
 }
 

@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "core/random.h"
+
 namespace wheelpose::body {
 
 struct Proxy {
@@ -39,6 +41,18 @@ std::vector<Eigen::Vector3f> fit_proxy(const Proxy& proxy, const std::vector<Eig
 // Every proxy under makehuman/<folder> (clothes, hair, eyebrows), as "<folder>/<name>", sorted.
 std::vector<std::string> list_proxies(const std::filesystem::path& makehuman_root,
                                       const std::string& folder);
+
+// The installed proxies by kind, each list sorted: suits by sex ("clothes/male_*",
+// "clothes/female_*"), shoes (names holding "shoes"), hats (any other clothes), hair, eyebrows,
+// eyes.
+struct ProxyCatalog {
+  std::vector<std::string> male_suits, female_suits, shoes, hats, hair, eyebrows, eyes;
+  static ProxyCatalog scan(const std::filesystem::path& makehuman_root);
+};
+
+// One name of `from` chosen uniformly. One number is drawn even when `from` is empty, so the
+// draws after it do not depend on what is installed.
+std::string pick_proxy(RandomStream& rng, const std::vector<std::string>& from);
 
 // A plausible outfit from what is installed: a suit for the sex (gender ≥ 0.5: male_*), shoes,
 // hair (p = 0.85), eyebrows and the low-poly eyes; drawn from RandomStream(seed, {"outfit"}).

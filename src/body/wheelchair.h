@@ -81,7 +81,9 @@ Primitive make_tube(const std::string& part, const Eigen::Vector3f& a, const Eig
                     float radius, int material);
 
 // Vertices ("v") and faces ("f", fans of polygons) of Wavefront OBJ text, as written; `origin`
-// names it in errors (origin:line).
+// names it in errors (origin:line). Written here rather than read with Assimp because Assimp's
+// OBJ importer splits vertices per face corner, and .mhclo proxies address the file's vertices
+// by their index.
 TriMesh parse_obj_mesh(const std::string& text, const std::string& origin);
 
 // The CC-BY "Wheel Chair" by bgamage (sweethome3d-furniture, BlendSwap-CC-BY.sh3f), in metres,

@@ -27,33 +27,62 @@ void fsync_directory(const std::filesystem::path& dir) {
 
 }  // namespace
 
-void write_file_atomic(const std::filesystem::path& path, std::string_view contents) {
-  const std::filesystem::path temp =
-      path.string() + ".tmp-" + std::to_string(static_cast<long>(::getpid()));
-  int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) io_failure(temp, "cannot create");
+constexpr const char* kTempMarker = ".tmp-";
+
+AtomicFileWriter::AtomicFileWriter(const std::filesystem::path& path)
+    : path_(path), temp_(path.string() + kTempMarker + std::to_string(static_cast<long>(::getpid()))) {
+  fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd_ < 0) io_failure(temp_, "cannot create");
+}
+
+AtomicFileWriter::~AtomicFileWriter() {
+  if (fd_ >= 0) {
+    ::close(fd_);
+    ::unlink(temp_.c_str());
+  }
+}
+
+void AtomicFileWriter::write(std::string_view contents) {
   const char* data = contents.data();
   std::size_t left = contents.size();
   while (left > 0) {
-    ssize_t written = ::write(fd, data, left);
+    ssize_t written = ::write(fd_, data, left);
     if (written < 0) {
       if (errno == EINTR) continue;
-      ::close(fd);
-      ::unlink(temp.c_str());
-      io_failure(temp, "write failed");
+      io_failure(temp_, "write failed");  // the destructor removes the temporary file
     }
     data += written;
     left -= static_cast<std::size_t>(written);
   }
+}
+
+void AtomicFileWriter::commit() {
+  const int fd = fd_;
+  fd_ = -1;
   if (::fsync(fd) != 0 || ::close(fd) != 0) {
-    ::unlink(temp.c_str());
-    io_failure(temp, "flush failed");
+    ::unlink(temp_.c_str());
+    io_failure(temp_, "flush failed");
   }
-  if (::rename(temp.c_str(), path.c_str()) != 0) {
-    ::unlink(temp.c_str());
-    io_failure(path, "rename failed");
+  if (::rename(temp_.c_str(), path_.c_str()) != 0) {
+    ::unlink(temp_.c_str());
+    io_failure(path_, "rename failed");
   }
-  fsync_directory(path.parent_path());
+  fsync_directory(path_.parent_path());
+}
+
+void remove_stale_temporaries(const std::filesystem::path& dir) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) return;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    if (entry.path().filename().string().find(kTempMarker) != std::string::npos)
+      std::filesystem::remove(entry.path(), ec);
+  }
+}
+
+void write_file_atomic(const std::filesystem::path& path, std::string_view contents) {
+  AtomicFileWriter writer(path);
+  writer.write(contents);
+  writer.commit();
 }
 
 void write_file_atomic(const std::filesystem::path& path, std::span<const std::uint8_t> contents) {

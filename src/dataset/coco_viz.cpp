@@ -71,6 +71,22 @@ void draw_annotation(cv::Mat& canvas, const json& a,
 
 }  // namespace
 
+ContactSheet::ContactSheet(std::size_t count, cv::Size cell)
+    : cell_(cell), cols_(std::max(1, static_cast<int>(std::ceil(std::sqrt(double(count)))))) {
+  const int rows = static_cast<int>((count + cols_ - 1) / cols_);
+  sheet_ = cv::Mat(std::max(1, rows) * cell.height, cols_ * cell.width, CV_8UC3,
+                   cv::Scalar(32, 32, 32));
+}
+
+void ContactSheet::place(std::size_t index, const cv::Mat& image) {
+  const double s = std::min(double(cell_.width) / image.cols, double(cell_.height) / image.rows);
+  cv::Mat thumb = image;
+  if (s != 1.0) cv::resize(image, thumb, cv::Size(), s, s, cv::INTER_AREA);
+  const int x = static_cast<int>(index % cols_) * cell_.width + (cell_.width - thumb.cols) / 2;
+  const int y = static_cast<int>(index / cols_) * cell_.height + (cell_.height - thumb.rows) / 2;
+  thumb.copyTo(sheet_(cv::Rect(x, y, thumb.cols, thumb.rows)));
+}
+
 std::size_t visualize_coco(const json& root, const std::string& source,
                            const std::filesystem::path& images_dir,
                            const std::filesystem::path& out_dir, std::int64_t n) {
@@ -94,10 +110,7 @@ std::size_t visualize_coco(const json& root, const std::string& source,
   for (const json& a : root["annotations"]) by_image[*as_integer(a["image_id"])].push_back(&a);
 
   ensure_directory(out_dir);
-  const int cell_w = 320, cell_h = 240;
-  const int cols = std::max(1, static_cast<int>(std::ceil(std::sqrt(double(images.size())))));
-  const int rows = static_cast<int>((images.size() + cols - 1) / cols);
-  cv::Mat sheet(std::max(1, rows) * cell_h, cols * cell_w, CV_8UC3, cv::Scalar(32, 32, 32));
+  ContactSheet sheet(images.size(), cv::Size(320, 240));
   for (std::size_t i = 0; i < images.size(); ++i) {
     const json& im = *images[i];
     const std::string file = im["file_name"].get<std::string>();
@@ -114,14 +127,9 @@ std::size_t visualize_coco(const json& root, const std::string& source,
                       kPalette[k % std::size(kPalette)]);
     }
     write_png(out_dir / (std::filesystem::path(file).stem().string() + ".png"), canvas);
-    const double s = std::min(double(cell_w) / canvas.cols, double(cell_h) / canvas.rows);
-    cv::Mat thumb;
-    cv::resize(canvas, thumb, cv::Size(), s, s, cv::INTER_AREA);
-    const int x = static_cast<int>(i % cols) * cell_w + (cell_w - thumb.cols) / 2;
-    const int y = static_cast<int>(i / cols) * cell_h + (cell_h - thumb.rows) / 2;
-    thumb.copyTo(sheet(cv::Rect(x, y, thumb.cols, thumb.rows)));
+    sheet.place(i, canvas);
   }
-  write_png(out_dir / "contact_sheet.png", sheet);
+  write_png(out_dir / "contact_sheet.png", sheet.image());
   return images.size();
 }
 

@@ -5,11 +5,26 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <opencv2/core.hpp>
 #include <string>
 
 #include "dataset/coco_file.h"
 
 namespace wheelpose::dataset {
+
+// A grid of `count` cells of `cell` size, as square as possible, filled row by row: each image
+// is scaled to fit its cell, keeping its aspect ratio, and centred on a dark background.
+class ContactSheet {
+ public:
+  ContactSheet(std::size_t count, cv::Size cell);
+  void place(std::size_t index, const cv::Mat& image);  // 8-bit, 3 channels
+  const cv::Mat& image() const { return sheet_; }
+
+ private:
+  cv::Size cell_;
+  int cols_;
+  cv::Mat sheet_;
+};
 
 // Draws the first `n` images by id into out_dir/<file stem>.png and out_dir/contact_sheet.png.
 // Returns the number of images drawn. A missing or unreadable image is an error naming it.

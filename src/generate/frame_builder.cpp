@@ -68,6 +68,19 @@ Eigen::Vector2f body_uv(const Vector3f& rest) {
                          rest.y() / 1.8f);
 }
 
+// A body-stage mesh (chair part, aid, furniture model) placed in the world.
+scene::Mesh transformed_mesh(const body::TriMesh& part, const std::string& name,
+                             const Eigen::Affine3f& to_world) {
+  scene::Mesh mesh;
+  mesh.name = name;
+  mesh.positions.reserve(part.vertices.size());
+  for (const Vector3f& v : part.vertices) mesh.positions.push_back(to_world * v);
+  for (const Vector3f& n : part.normals) mesh.normals.push_back((to_world.linear() * n).normalized());
+  for (const auto& t : part.triangles)
+    mesh.triangles.emplace_back(static_cast<int>(t[0]), static_cast<int>(t[1]), static_cast<int>(t[2]));
+  return mesh;
+}
+
 class SceneAssembler {
  public:
   explicit SceneAssembler(scene::Scene& scene) : scene_(scene) {}
@@ -97,13 +110,9 @@ class SceneAssembler {
     const std::string key = "furniture:" + std::to_string(item);
     auto it = primitive_meshes_.find(key);
     if (it != primitive_meshes_.end()) return it->second;
-    const body::TriMesh& model = catalog.mesh(item);
-    scene::Mesh mesh;
-    mesh.name = catalog.items()[item].name;
-    mesh.positions = model.vertices;  // normals left empty: flat faces keep hard edges
-    for (const auto& t : model.triangles)
-      mesh.triangles.emplace_back(static_cast<int>(t[0]), static_cast<int>(t[1]), static_cast<int>(t[2]));
-    const int index = add_mesh(std::move(mesh));
+    // The models carry no normals: flat faces keep their hard edges.
+    const int index = add_mesh(transformed_mesh(catalog.mesh(item), catalog.items()[item].name,
+                                                Eigen::Affine3f::Identity()));
     primitive_meshes_.emplace(key, index);
     return index;
   }
@@ -130,17 +139,6 @@ Eigen::Matrix4f trs(const Vector3f& position, const Eigen::Quaternionf& rotation
   return a.matrix();
 }
 
-scene::Mesh transformed_mesh(const body::TriMesh& part, const std::string& name,
-                             const Eigen::Affine3f& to_world) {
-  scene::Mesh mesh;
-  mesh.name = name;
-  mesh.positions.reserve(part.vertices.size());
-  for (const Vector3f& v : part.vertices) mesh.positions.push_back(to_world * v);
-  for (const Vector3f& n : part.normals) mesh.normals.push_back((to_world.linear() * n).normalized());
-  for (const auto& t : part.triangles)
-    mesh.triangles.emplace_back(static_cast<int>(t[0]), static_cast<int>(t[1]), static_cast<int>(t[2]));
-  return mesh;
-}
 
 void add_chair(SceneAssembler& out, const body::Wheelchair& chair,
                const std::array<Vector3f, 4>& colours, const Eigen::Affine3f& to_world,

@@ -66,15 +66,5 @@ cv::Mat render_portrait(const body::BodyData& data, const body::PersonSpec& spec
   return renderer.render(options).rgb;
 }
 
-cv::Mat contact_sheet(const std::vector<cv::Mat>& images) {
-  if (images.empty()) return {};
-  const int n = static_cast<int>(images.size());
-  const int cols = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n))));
-  const int rows = (n + cols - 1) / cols;
-  const int w = images[0].cols, h = images[0].rows;
-  cv::Mat sheet(rows * h, cols * w, images[0].type(), cv::Scalar::all(30));
-  for (int i = 0; i < n; ++i) images[i].copyTo(sheet(cv::Rect((i % cols) * w, (i / cols) * h, w, h)));
-  return sheet;
-}
 
 }  // namespace wheelpose::generate

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "body/proxy.h"
 #include "core/config.h"
 #include "core/random.h"
 #include "core/sampler.h"
@@ -22,8 +23,7 @@ struct RandomizerContext {
   std::vector<double> clip_durations;  // seconds
   int width = 1280, height = 720;
   int furniture_count = 0;  // models in the furniture catalog (0 = none installed)
-  // MakeHuman proxies available ("clothes/<name>", "hair/<name>", "eyebrows/<name>"), sorted.
-  std::vector<std::string> clothes, hair, eyebrows, eyes;
+  body::ProxyCatalog proxies;  // the MakeHuman clothes, hair, eyebrows and eyes installed
 };
 
 class Randomizer {

@@ -60,21 +60,6 @@ class HumanGeneration final : public Randomizer {
   }
 
   void apply(FrameDraft& f, RandomStream& rng, const RandomizerContext& ctx) const override {
-    // The proxy lists by kind: suits by sex, shoes, hats (anything else under clothes/).
-    std::vector<std::string> male, female, shoes, hats;
-    for (const std::string& c : ctx.clothes) {
-      if (c.find("shoes") != std::string::npos) shoes.push_back(c);
-      else if (c.rfind("clothes/male_", 0) == 0) male.push_back(c);
-      else if (c.rfind("clothes/female_", 0) == 0) female.push_back(c);
-      else hats.push_back(c);
-    }
-    // One index per list, drawn whether or not the list is empty, so the draws after it do not
-    // depend on the installed assets.
-    auto pick = [](RandomStream& r, const std::vector<std::string>& from) {
-      const double u = r.uniform01();
-      return from.empty() ? std::string()
-                          : from[std::min(from.size() - 1, static_cast<std::size_t>(u * from.size()))];
-    };
     const std::int64_t pool = f.index / refresh_;
     const std::int64_t count =
         std::min<std::int64_t>(rng.uniform_int(min_count_, max_count_), pool_size_);
@@ -113,10 +98,15 @@ class HumanGeneration final : public Randomizer {
       const bool clothed = member.bernoulli(clothing_);
       const bool has_hair = member.bernoulli(hair_);
       const bool has_hat = member.bernoulli(hat_);
-      const std::string suit = pick(member, m.gender >= 0.5 ? (male.empty() ? female : male)
-                                                            : (female.empty() ? male : female));
-      const std::string shoe = pick(member, shoes), hat = pick(member, hats);
-      const std::string hair = pick(member, ctx.hair), brows = pick(member, ctx.eyebrows);
+      const body::ProxyCatalog& kit = ctx.proxies;
+      const auto& male = kit.male_suits;
+      const auto& female = kit.female_suits;
+      const std::string suit = body::pick_proxy(
+          member, m.gender >= 0.5 ? (male.empty() ? female : male) : (female.empty() ? male : female));
+      const std::string shoe = body::pick_proxy(member, kit.shoes);
+      const std::string hat = body::pick_proxy(member, kit.hats);
+      const std::string hair = body::pick_proxy(member, kit.hair);
+      const std::string brows = body::pick_proxy(member, kit.eyebrows);
       if (clothed) {
         for (const std::string* proxy : {&suit, &shoe}) {
           if (!proxy->empty()) p.spec.proxies.push_back(*proxy);
@@ -126,8 +116,8 @@ class HumanGeneration final : public Randomizer {
       if (has_hat && !hat.empty()) p.spec.proxies.push_back(hat);
       if (!brows.empty()) p.spec.proxies.push_back(brows);
       // Eyes: the low-poly eyeballs (the assets' textures are absent, so an iris colour).
-      const auto eyes = std::find(ctx.eyes.begin(), ctx.eyes.end(), "eyes/low-poly");
-      if (eyes != ctx.eyes.end()) p.spec.proxies.push_back(*eyes);
+      const auto eyes = std::find(kit.eyes.begin(), kit.eyes.end(), "eyes/low-poly");
+      if (eyes != kit.eyes.end()) p.spec.proxies.push_back(*eyes);
       const double iris = member.uniform01();
       p.outfit.eyes.name = "eyes";
       p.outfit.eyes.diffuse = iris < 0.6   ? Eigen::Vector3f(0.12f, 0.06f, 0.03f)

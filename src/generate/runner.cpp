@@ -2,10 +2,8 @@
 
 #include "generate/runner.h"
 
-#include <fcntl.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
-#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
@@ -58,14 +56,6 @@ json category(const eval::KeypointTemplate& t) {
           {"skeleton", std::move(skeleton)}};
 }
 
-void remove_stray_temporaries(const fs::path& dir) {
-  if (!fs::is_directory(dir)) return;
-  for (const auto& entry : fs::directory_iterator(dir)) {
-    if (entry.path().filename().string().find(".tmp-") != std::string::npos)
-      fs::remove(entry.path());
-  }
-}
-
 std::vector<std::uint8_t> encode_image(const cv::Mat& rgb, const std::string& format, int quality) {
   cv::Mat bgr;
   cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
@@ -76,38 +66,6 @@ std::vector<std::uint8_t> encode_image(const cv::Mat& rgb, const std::string& fo
   return bytes;
 }
 
-// A file written piece by piece under a temporary name, renamed into place when complete.
-class StreamingFile {
- public:
-  explicit StreamingFile(const fs::path& path)
-      : path_(path), temp_(path.string() + ".tmp-" + std::to_string(::getpid())) {
-    file_ = std::fopen(temp_.c_str(), "wb");
-    if (file_ == nullptr) throw Error(path.string() + ": cannot write");
-  }
-  ~StreamingFile() {
-    if (file_ != nullptr) {
-      std::fclose(file_);
-      std::error_code ignored;
-      fs::remove(temp_, ignored);
-    }
-  }
-  void write(const std::string& text) {
-    if (std::fwrite(text.data(), 1, text.size(), file_) != text.size())
-      throw Error(path_.string() + ": write failed (disk full?)");
-  }
-  void commit() {
-    const bool ok = std::fflush(file_) == 0 && ::fsync(::fileno(file_)) == 0;
-    std::fclose(file_);
-    file_ = nullptr;
-    if (!ok) throw Error(path_.string() + ": write failed (disk full?)");
-    fs::rename(temp_, path_);
-  }
-
- private:
-  fs::path path_, temp_;
-  std::FILE* file_ = nullptr;
-};
-
 std::string element_text(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
 
 // annotations.json in the canonical form of dataset::write_coco (keys sorted, one array
@@ -115,7 +73,7 @@ std::string element_text(const json& j) { return j.dump(-1, ' ', false, json::er
 std::pair<std::int64_t, std::int64_t> assemble_annotations(const fs::path& out,
                                                            std::int64_t first, std::int64_t end,
                                                            const json& info, const json& cat) {
-  StreamingFile file(out / "annotations.json");
+  AtomicFileWriter file(out / "annotations.json");
   auto fragment = [&](std::int64_t frame) {
     const fs::path path = out / "labels" / (frame_stem(frame) + ".json");
     try {
@@ -185,14 +143,16 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
   ensure_directory(out / "images");
   ensure_directory(out / "labels");
   if (scenario.ground_truth_maps) ensure_directory(out / "maps");
-  for (const char* sub : {"", "images", "labels", "maps"}) remove_stray_temporaries(out / sub);
+  for (const char* sub : {"", "images", "labels", "maps"}) remove_stale_temporaries(out / sub);
 
   ordered_json record = provenance(scenario, options, clips);
   record["furniture"] = {{"archive", furniture.archive().string()},
                          {"models", furniture.items().size()}};
-  record["proxies"] = {{"clothes", body::list_proxies(assets / "makehuman", "clothes").size()},
-                       {"hair", body::list_proxies(assets / "makehuman", "hair").size()},
-                       {"eyebrows", body::list_proxies(assets / "makehuman", "eyebrows").size()}};
+  const body::ProxyCatalog proxies = body::ProxyCatalog::scan(assets / "makehuman");
+  record["proxies"] = {{"clothes", proxies.male_suits.size() + proxies.female_suits.size() +
+                                       proxies.shoes.size() + proxies.hats.size()},
+                       {"hair", proxies.hair.size()},
+                       {"eyebrows", proxies.eyebrows.size()}};
   const std::string record_text = record.dump(2) + "\n";
   const fs::path record_path = out / "scenario.json";
   if (options.resume && fs::exists(record_path) && read_file(record_path) != record_text) {
@@ -206,10 +166,7 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
   context.width = scenario.width;
   context.height = scenario.height;
   context.furniture_count = static_cast<int>(furniture.items().size());
-  context.clothes = body::list_proxies(assets / "makehuman", "clothes");
-  context.hair = body::list_proxies(assets / "makehuman", "hair");
-  context.eyebrows = body::list_proxies(assets / "makehuman", "eyebrows");
-  context.eyes = body::list_proxies(assets / "makehuman", "eyes");
+  context.proxies = proxies;
   for (const auto& c : clips) {
     context.clip_names.push_back(c.motion.name);
     context.clip_durations.push_back(static_cast<double>(c.motion.frame_count()) / c.motion.fps);
@@ -218,12 +175,12 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
   RunSummary summary;
   std::tie(summary.first_frame, summary.end_frame) =
       shard_range(options.frames, options.shard_index, options.shard_count);
-  std::vector<std::int64_t> todo;
+  std::vector<std::int64_t> pending;
   for (std::int64_t f = summary.first_frame; f < summary.end_frame; ++f) {
     if (options.resume && fs::exists(out / "labels" / (frame_stem(f) + ".json"))) {
       ++summary.resumed;
     } else {
-      todo.push_back(f);
+      pending.push_back(f);
     }
   }
   const std::int64_t total = summary.end_frame - summary.first_frame;
@@ -232,8 +189,8 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
   if (progress) progress(done, total);
 
   const LabelOptions label_options{scenario.min_visible_pixels, scenario.segmentation};
-  tbb::parallel_for(std::size_t{0}, todo.size(), std::size_t{1}, [&](std::size_t i) {
-    const std::int64_t frame = todo[i];
+  tbb::parallel_for(std::size_t{0}, pending.size(), std::size_t{1}, [&](std::size_t i) {
+    const std::int64_t frame = pending[i];
     const FrameDraft draft = draft_frame(scenario, options.seed, frame, context);
     const BuiltFrame built = build_frame(draft, body_data, clips, scenario.anchors, &furniture);
     render::Renderer renderer(built.scene);
@@ -273,7 +230,7 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
       progress(now, total);
     }
   });
-  summary.rendered = static_cast<std::int64_t>(todo.size());
+  summary.rendered = static_cast<std::int64_t>(pending.size());
   summary.dropped_people = dropped;
 
   json info = {{"description", "WheelPose synthetic wheelchair users"},
