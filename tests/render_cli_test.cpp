@@ -113,6 +113,12 @@ TEST(RenderCli, BadFlagsAreUsageErrors) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--spp"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir / "out"));
+  const auto more_lit = run_wheelpose("render " + (dir / "wall.json").string() + " --out " +
+                                      (dir / "out").string() + " --spp 2 --light-samples 3");
+  EXPECT_EQ(more_lit.exit_code, 2) << more_lit.output;
+  EXPECT_NE(more_lit.output.find("--light-samples (3) cannot exceed --spp (2)"), std::string::npos)
+      << more_lit.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
 TEST(RenderCli, MissingSceneFileIsBadInput) {

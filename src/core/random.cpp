@@ -5,13 +5,6 @@
 
 namespace wheelpose {
 
-std::uint64_t StreamKey::mix(std::uint64_t z) {
-  // SplitMix64 finaliser: a bijective avalanche on 64 bits.
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
 StreamKey::StreamKey(std::string_view text) {
   // FNV-1a then an avalanche, so names and numbers land in unrelated places.
   std::uint64_t h = 0xcbf29ce484222325ULL;

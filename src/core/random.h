@@ -16,12 +16,19 @@ namespace wheelpose {
 class StreamKey {
  public:
   StreamKey(std::uint64_t value) : hash_(mix(value ^ 0x9e3779b97f4a7c15ULL)) {}  // NOLINT
-  StreamKey(int value) : StreamKey(static_cast<std::uint64_t>(static_cast<std::int64_t>(value))) {}  // NOLINT
-  StreamKey(std::string_view text);  // NOLINT
-  StreamKey(const char* text) : StreamKey(std::string_view(text)) {}  // NOLINT
-  StreamKey(const std::string& text) : StreamKey(std::string_view(text)) {}  // NOLINT
+  StreamKey(int value)
+      : StreamKey(static_cast<std::uint64_t>(static_cast<std::int64_t>(value))) {}  // NOLINT
+  StreamKey(std::string_view text);                                                 // NOLINT
+  StreamKey(const char* text) : StreamKey(std::string_view(text)) {}                // NOLINT
+  StreamKey(const std::string& text) : StreamKey(std::string_view(text)) {}         // NOLINT
   std::uint64_t hash() const { return hash_; }
-  static std::uint64_t mix(std::uint64_t z);
+  // SplitMix64 finaliser: a bijective avalanche on 64 bits. Inline: pixel sampling and
+  // procedural textures call it millions of times per frame.
+  static std::uint64_t mix(std::uint64_t z) {
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  }
 
  private:
   std::uint64_t hash_;

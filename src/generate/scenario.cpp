@@ -30,13 +30,15 @@ Scenario Scenario::from_config(const ConfigNode& root) {
     s.width = static_cast<int>(image->get_int("width", s.width, 16, 16384));
     s.height = static_cast<int>(image->get_int("height", s.height, 16, 16384));
     s.spp = static_cast<int>(image->get_int("spp", s.spp, 1, 4096));
+    s.light_samples = static_cast<int>(image->get_int("light_samples", s.light_samples, 1, s.spp));
+    s.denoise_radius = static_cast<int>(image->get_int("denoise_radius", s.denoise_radius, 0, 16));
     s.jpeg_quality = static_cast<int>(image->get_int("jpeg_quality", s.jpeg_quality, 1, 100));
     image->finish();
   }
   if (auto labels = root.optional_child("labels")) {
     s.keypoint_template_name = labels->get_string("keypoint_template", s.keypoint_template_name);
-    s.min_visible_pixels = static_cast<int>(
-        labels->get_int("min_visible_pixels", s.min_visible_pixels, 1, 1LL << 30));
+    s.min_visible_pixels =
+        static_cast<int>(labels->get_int("min_visible_pixels", s.min_visible_pixels, 1, 1LL << 30));
     s.segmentation = labels->get_bool("segmentation", s.segmentation);
     s.ground_truth_maps = labels->get_bool("ground_truth_maps", s.ground_truth_maps);
     try {
@@ -55,7 +57,8 @@ Scenario Scenario::from_config(const ConfigNode& root) {
   if (section && section->is_map()) {
     for (const std::string& name : section->keys()) {
       if (find_randomizer(name) == nullptr) {
-        section->child(name).fail("unknown randomizer (see `wheelpose generate --list-randomizers`)");
+        section->child(name).fail(
+            "unknown randomizer (see `wheelpose generate --list-randomizers`)");
       }
     }
   }
@@ -64,8 +67,8 @@ Scenario Scenario::from_config(const ConfigNode& root) {
     if (section && section->is_map()) node = section->optional_child(entry.name);
     if (node && !node->is_null() && !node->is_map()) node->fail("expected a map of settings");
     const ConfigNode* config = node && node->is_map() ? &*node : nullptr;
-    const bool enabled = config ? config->get_bool("enabled", entry.enabled_by_default)
-                                : entry.enabled_by_default;
+    const bool enabled =
+        config ? config->get_bool("enabled", entry.enabled_by_default) : entry.enabled_by_default;
     if (!enabled) {
       if (config) {
         // A disabled randomizer's settings are still checked, so typos do not hide.
@@ -87,7 +90,12 @@ Scenario Scenario::from_file(const std::string& path) {
 
 nlohmann::ordered_json Scenario::to_json() const {
   nlohmann::ordered_json j;
-  j["image"] = {{"width", width}, {"height", height}, {"spp", spp}, {"jpeg_quality", jpeg_quality}};
+  j["image"] = {{"width", width},
+                {"height", height},
+                {"spp", spp},
+                {"light_samples", light_samples},
+                {"denoise_radius", denoise_radius},
+                {"jpeg_quality", jpeg_quality}};
   j["labels"] = {{"keypoint_template", keypoint_template_name},
                  {"min_visible_pixels", min_visible_pixels},
                  {"segmentation", segmentation},

@@ -48,6 +48,9 @@ TEST(Scenario, ErrorsNameFileLineAndKey) {
   EXPECT_NE(message("randomizers:\n  Camera: {fov: 3}\n").find("fov"), std::string::npos);
   EXPECT_NE(message("randomizers:\n  Nope: {}\n").find("unknown randomizer"), std::string::npos);
   EXPECT_NE(message("image: {width: 3}\n").find("width"), std::string::npos);
+  EXPECT_NE(message("image: {spp: 2, light_samples: 3}\n").find("light_samples"),
+            std::string::npos);
+  EXPECT_NE(message("image: {denoise_radius: 40}\n").find("denoise_radius"), std::string::npos);
   EXPECT_NE(message("labels: {keypoint_template: nothing.json}\n").find("keypoint_template"),
             std::string::npos);
   EXPECT_NE(message("colour: red\n").find("colour"), std::string::npos);
@@ -152,8 +155,7 @@ TEST(RandomizerReference, ReadmeSectionIsTheGeneratedReference) {
   const auto b = readme.find(begin), e = readme.find(end);
   ASSERT_NE(b, std::string::npos);
   ASSERT_NE(e, std::string::npos);
-  EXPECT_EQ(readme.substr(b + begin.size(), e - b - begin.size()),
-            randomizer_reference_markdown())
+  EXPECT_EQ(readme.substr(b + begin.size(), e - b - begin.size()), randomizer_reference_markdown())
       << "regenerate with: wheelpose generate --list-randomizers";
 }
 

@@ -40,10 +40,14 @@ Difference compare(const cv::Mat& a, const cv::Mat& b) {
 
 class Golden : public ::testing::TestWithParam<testing::NamedScene> {};
 
+// 16 samples per pixel, 4 of which sample the lights (the rest reuse them), then denoised:
+// the references exercise every part of decoupled shading.
+constexpr RenderOptions kGoldenOptions{.spp = 16, .light_samples = 4};
+
 TEST_P(Golden, MatchesTheReference) {
   const auto& named = GetParam();
   Renderer renderer(named.make());
-  const cv::Mat actual_rgb = renderer.render({.spp = 16}).rgb;
+  const cv::Mat actual_rgb = renderer.render(kGoldenOptions).rgb;
   cv::Mat actual;
   cv::cvtColor(actual_rgb, actual, cv::COLOR_RGB2BGR);
   const fs::path reference = golden_dir() / (std::string(named.name) + ".png");
@@ -83,7 +87,7 @@ TEST(GoldenTolerance, CatchesAVisibleLightingChange) {
   scene::Scene s = testing::lit_sphere();
   s.sun.intensity *= 0.8f;
   cv::Mat actual;
-  cv::cvtColor(Renderer(s).render({.spp = 16}).rgb, actual, cv::COLOR_RGB2BGR);
+  cv::cvtColor(Renderer(s).render(kGoldenOptions).rgb, actual, cv::COLOR_RGB2BGR);
   const cv::Mat expected = cv::imread((golden_dir() / "lit_sphere.png").string(), cv::IMREAD_COLOR);
   ASSERT_FALSE(expected.empty());
   const Difference d = compare(actual, expected);

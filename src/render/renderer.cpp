@@ -206,15 +206,15 @@ Eigen::Vector3f Renderer::sample_environment(float r1, float r2, float& pdf) con
   // Inverse of environment(): u = 0.5 + atan2(d.x, −d.z) / 2π + rotation.
   const float phi = 2 * kPi * (u - 0.5f - scene_.environment->rotation_deg / 360.0f);
   const float sin_theta = std::sin(theta);
-  pdf = sin_theta > 1e-6f ? cell_probability * env_grid_w_ * env_grid_h_ /
-                                (2 * kPi * kPi * sin_theta)
-                          : 0.0f;
+  pdf = sin_theta > 1e-6f
+            ? cell_probability * env_grid_w_ * env_grid_h_ / (2 * kPi * kPi * sin_theta)
+            : 0.0f;
   return Eigen::Vector3f(sin_theta * std::sin(phi), std::cos(theta), -sin_theta * std::cos(phi));
 }
 
 float Renderer::environment_pdf(const Eigen::Vector3f& d) const {
-  const float u = 0.5f + std::atan2(d.x(), -d.z()) / (2 * kPi) +
-                  scene_.environment->rotation_deg / 360.0f;
+  const float u =
+      0.5f + std::atan2(d.x(), -d.z()) / (2 * kPi) + scene_.environment->rotation_deg / 360.0f;
   const float theta = std::acos(std::clamp(d.y(), -1.0f, 1.0f));
   const float sin_theta = std::sin(theta);
   if (sin_theta <= 1e-6f) return 0.0f;
@@ -249,15 +249,44 @@ Eigen::Vector3f Renderer::background(float px, float py, const Eigen::Vector3f& 
   return scene_.background.color;
 }
 
+// Per-frame buffers of decoupled shading: each pixel's lighting (from its light samples, kept
+// apart from surface colour so it can be denoised) and what the other samples need from it.
+// Row-major, one entry per pixel.
+struct Renderer::PixelLighting {
+  struct Reuse {
+    float albedo_sum[3] = {0, 0, 0};  // over the samples that reuse the pixel's lighting
+    float count = 0;                  // how many samples reuse it
+    float own[3] = {0, 0, 0};         // radiance summed over samples lit on their own
+    // The sun's part of the pixel's lighting, not smoothed: a ray toward a 0.5° disc is nearly
+    // noise-free, so sun shadows stay sharp (tracing it for every sample instead costs 25 %).
+    PixelLight sun;
+  };
+  std::vector<LightingGuide> guide;  // surface, normal and position of sample 0
+  std::vector<PixelLight> light;     // point lights and sky, mean over the pixel's light samples
+  std::vector<Reuse> reuse;
+};
+
 FrameBuffers Renderer::render(const RenderOptions& options) {
   const int w = scene_.camera.width, h = scene_.camera.height;
   if (options.spp < 1) throw Error("samples per pixel must be at least 1");
+  if (options.light_samples < 1 || options.light_samples > options.spp) {
+    throw Error("light samples per pixel must be between 1 and the samples per pixel (" +
+                std::to_string(options.spp) + ")");
+  }
+  if (options.denoise_radius < 0 || options.denoise_radius > 16) {
+    throw Error("denoise radius must be between 0 and 16 pixels");
+  }
   FrameBuffers out;
   out.linear = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
   out.depth = cv::Mat(h, w, CV_32F, cv::Scalar::all(0));
   out.normals = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
   out.instance = cv::Mat(h, w, CV_16U, cv::Scalar::all(0));
   out.semantic = cv::Mat(h, w, CV_16U, cv::Scalar::all(0));
+  PixelLighting lighting;
+  const std::size_t pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  lighting.guide.resize(pixels);
+  lighting.light.resize(pixels);
+  lighting.reuse.resize(pixels);
   const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
   std::atomic<long long> trace_ns{0}, shade_ns{0}, rays{0};
   const auto start = Clock::now();
@@ -266,7 +295,7 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
                       double t = 0, s = 0;
                       long long n = 0;
                       for (int i = r.begin(); i < r.end(); ++i)
-                        render_tile(i % tiles_x, i / tiles_x, options, out, t, s, n);
+                        render_tile(i % tiles_x, i / tiles_x, options, out, lighting, t, s, n);
                       trace_ns += static_cast<long long>(t);
                       shade_ns += static_cast<long long>(s);
                       rays += n;
@@ -276,6 +305,29 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
   timings_.trace_ms = wall * static_cast<double>(trace_ns) / busy;
   timings_.shade_ms = wall * static_cast<double>(shade_ns) / busy;
   timings_.rays = rays;
+
+  const auto denoise_start = Clock::now();
+  denoise_lighting(w, h, lighting.guide, options.denoise_radius, lighting.light);
+  // Radiance = (Σ albedo of the reusing samples ⊙ lighting + their specular + samples lit on
+  // their own) / spp.
+  const float inv = 1.0f / static_cast<float>(options.spp);
+  tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y < rows.end(); ++y) {
+      auto* row = out.linear.ptr<cv::Vec3f>(y);
+      for (int x = 0; x < w; ++x) {
+        const std::size_t i = static_cast<std::size_t>(y) * w + x;
+        const PixelLight& l = lighting.light[i];
+        const PixelLighting::Reuse& r = lighting.reuse[i];
+        for (int k = 0; k < 3; ++k) {
+          row[x][k] = (r.albedo_sum[k] * (l.diffuse[k] + r.sun.diffuse[k]) +
+                       r.count * (l.specular[k] + r.sun.specular[k]) + r.own[k]) *
+                      inv;
+        }
+      }
+    }
+  });
+  timings_.denoise_ms = ms_since(denoise_start);
+
   const auto post_start = Clock::now();
   out.rgb = options.post ? apply_post(out.linear, out.depth, scene_.post,
                                       scene_.camera.focus_distance, scene_.seed)
@@ -285,7 +337,8 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
 }
 
 void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options, FrameBuffers& out,
-                           double& trace_ns, double& shade_ns, long long& ray_count) const {
+                           PixelLighting& lighting, double& trace_ns, double& shade_ns,
+                           long long& ray_count) const {
   const auto& cam = scene_.camera;
   const int w = cam.width, h = cam.height;
   const float tan_half = std::tan(0.5f * cam.effective_vfov());
@@ -302,14 +355,28 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
   basis(sun_dir, sun_u, sun_v);
   const bool env_on = scene_.environment.has_value();
 
-  constexpr int kPackets = kTile * kTile / 8;  // 4×2-pixel packets per tile
+  constexpr int kPixels = kTile * kTile;
+  constexpr int kPackets = kPixels / 8;  // 4×2-pixel packets per tile
   std::array<RTCRayHit8, kPackets> hits;
   std::array<std::array<int, 8>, kPackets> valid;
-  std::array<PrimarySample, kTile * kTile> prim;
-  std::array<Eigen::Vector3f, kTile * kTile> accum;
-  accum.fill(Eigen::Vector3f::Zero());
+  std::array<PrimarySample, kPixels> prim;
+  // Per pixel: radiance of samples lit on their own, and the pixel's lighting (see
+  // PixelLighting) accumulated over its light samples.
+  std::array<Eigen::Vector3f, kPixels> own, diffuse, specular, sun_diffuse, sun_specular,
+      albedo_sum, normal0, position0;
+  std::array<int, kPixels> surface0, light_count, reuse_count;
+  own.fill(Eigen::Vector3f::Zero());
+  diffuse.fill(Eigen::Vector3f::Zero());
+  specular.fill(Eigen::Vector3f::Zero());
+  sun_diffuse.fill(Eigen::Vector3f::Zero());
+  sun_specular.fill(Eigen::Vector3f::Zero());
+  albedo_sum.fill(Eigen::Vector3f::Zero());
+  surface0.fill(-1);
+  light_count.fill(0);
+  reuse_count.fill(0);
   std::vector<RandomStream> streams;
-  streams.reserve(kTile * kTile);
+  streams.reserve(kPixels);
+  const StreamKey pixel_key("pixel");
 
   auto pixel_of = [&](int p, int k, int& x, int& y) {
     x = tile_x * kTile + (p % 2) * 4 + k % 4;
@@ -401,6 +468,9 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
     store_ground_truth();
   }
 
+  // A sample reuses its pixel's lighting when it lands on the same surface as sample 0 with a
+  // normal within ≈ 18°; otherwise (silhouettes, creases) it is lit on its own.
+  constexpr float kReuseNormalCos = 0.95f;
   for (int s = 0; s < options.spp; ++s) {
     const auto shade_start = Clock::now();
     streams.clear();
@@ -409,7 +479,7 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
         int x, y;
         pixel_of(p, k, x, y);
         streams.emplace_back(scene_.seed, std::initializer_list<StreamKey>{
-                                              "pixel", static_cast<std::uint64_t>(y) * w + x, s});
+                                              pixel_key, static_cast<std::uint64_t>(y) * w + x, s});
         RandomStream& rng = streams.back();
         // Sample 0 goes through the pixel centre; later ones are jittered over the pixel.
         const float jx = s == 0 ? 0.5f : static_cast<float>(rng.uniform01());
@@ -434,18 +504,21 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
       // Shadow packets: 0 = sun, 1 = one point light, 2 = environment.
       alignas(32) std::array<RTCRay8, 3> shadow;
       std::array<std::array<int, 8>, 3> shadow_valid{};
-      std::array<std::array<Eigen::Vector3f, 8>, 3> contrib;
+      // Per shadow ray: the part scaled by albedo and the specular part.
+      std::array<std::array<Eigen::Vector3f, 8>, 3> to_diffuse, to_specular;
+      std::array<bool, 8> into_pixel{};  // lighting goes to the pixel (true) or the sample only
+      std::array<Eigen::Vector3f, 8> albedos;
       for (int k = 0; k < 8; ++k) {
         if (!valid[p][k]) continue;
         const int li = p * 8 + k;
         const PrimarySample& ps = prim[li];
         const RTCRayHit8& rh = hits[p];
         if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
-          accum[li] += background(ps.px, ps.py, ps.dir);
+          own[li] += background(ps.px, ps.py, ps.dir);
           continue;
         }
-        RandomStream& rng = streams[li];
-        const Geometry& g = geometries_[rh.hit.geomID[k]];
+        const int surface = static_cast<int>(rh.hit.geomID[k]);
+        const Geometry& g = geometries_[surface];
         const auto& tri = g.triangles[rh.hit.primID[k]];
         const float u = rh.hit.u[k], v = rh.hit.v[k], bw = 1 - u - v;
         const Eigen::Vector3f pos = ps.origin + rh.ray.tfar[k] * ps.dir;
@@ -466,16 +539,34 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
             rotate_hue(m.diffuse.cwiseProduct(material_textures_[g.material].at(uv.x(), uv.y())),
                        m.hue_offset_deg)
                 .cwiseMin(1.0f);
+        albedos[k] = albedo;
+        if (s == 0) {
+          surface0[li] = surface;
+          normal0[li] = n;
+          position0[li] = pos;
+        }
+        const bool reuse =
+            s == 0 || (surface == surface0[li] && n.dot(normal0[li]) > kReuseNormalCos);
+        if (reuse) {
+          albedo_sum[li] += albedo;
+          ++reuse_count[li];
+          if (s >= options.light_samples) continue;  // lit once for the pixel, not per sample
+          ++light_count[li];
+        }
+        into_pixel[k] = reuse;
+        RandomStream& rng = streams[li];
         const float eps = 1e-4f * (1.0f + pos.cwiseAbs().maxCoeff());
         const Eigen::Vector3f origin = pos + eps * ng;
-        auto brdf_cos = [&](const Eigen::Vector3f& l, float cos_l) -> Eigen::Vector3f {
-          Eigen::Vector3f f = albedo * cos_l;
+        // Light × cos, split into the part the albedo scales and the specular part.
+        auto add_light = [&](int q, const Eigen::Vector3f& l, float cos_l,
+                             const Eigen::Vector3f& radiance) {
+          to_diffuse[q][k] = radiance * cos_l;
+          to_specular[q][k] = Eigen::Vector3f::Zero();
           if (m.specular > 0) {
             const Eigen::Vector3f hv = (l - ps.dir).normalized();
-            f += Eigen::Vector3f::Constant(
-                m.specular * std::pow(std::max(0.0f, n.dot(hv)), m.shininess) * cos_l);
+            to_specular[q][k] =
+                radiance * (m.specular * std::pow(std::max(0.0f, n.dot(hv)), m.shininess) * cos_l);
           }
-          return f;
         };
         if (sun_on) {
           // Uniform direction in the sun's cone (soft shadows).
@@ -488,7 +579,7 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
           if (c > 0 && ng.dot(l) > 0) {
             set_ray(shadow[0], k, origin, l, kInf);
             shadow_valid[0][k] = -1;
-            contrib[0][k] = sun.color.cwiseProduct(brdf_cos(l, c)) * sun.intensity;
+            add_light(0, l, c, sun.color * sun.intensity);
           }
         }
         if (!lights_on_.empty()) {
@@ -535,8 +626,8 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
             if (c > 0 && ng.dot(l) > 0 && prob > 0) {
               set_ray(shadow[1], k, origin, l, dist);
               shadow_valid[1][k] = -1;
-              contrib[1][k] = light.color.cwiseProduct(brdf_cos(l, c)) *
-                              (light.intensity / (std::max(dist * dist, 1e-4f) * prob));
+              add_light(1, l, c,
+                        light.color * (light.intensity / (std::max(dist * dist, 1e-4f) * prob)));
             }
           }
         }
@@ -565,7 +656,8 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
           if (pdf > 0 && c > 0 && ng.dot(l) > 0) {
             set_ray(shadow[2], k, origin, l, kInf);
             shadow_valid[2][k] = -1;
-            contrib[2][k] = albedo.cwiseProduct(environment(l)) * (c / (kPi * pdf));
+            to_diffuse[2][k] = environment(l) * (c / (kPi * pdf));
+            to_specular[2][k] = Eigen::Vector3f::Zero();
           }
         } else if (env_on) {
           // Uniform sky: a cosine-weighted direction; the estimator is albedo × L_env.
@@ -580,7 +672,8 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
           if (ng.dot(l) > 0) {
             set_ray(shadow[2], k, origin, l, kInf);
             shadow_valid[2][k] = -1;
-            contrib[2][k] = albedo.cwiseProduct(environment(l));
+            to_diffuse[2][k] = environment(l);
+            to_specular[2][k] = Eigen::Vector3f::Zero();
           }
         }
       }
@@ -594,24 +687,49 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
         ray_count += n;
         for (int k = 0; k < 8; ++k) {
           // Embree sets tfar to −inf for occluded rays.
-          if (shadow_valid[q][k] && shadow[q].tfar[k] >= 0.0f) accum[p * 8 + k] += contrib[q][k];
+          if (!shadow_valid[q][k] || shadow[q].tfar[k] < 0.0f) continue;
+          const int li = p * 8 + k;
+          if (into_pixel[k] && q == 0) {
+            sun_diffuse[li] += to_diffuse[q][k];
+            sun_specular[li] += to_specular[q][k];
+          } else if (into_pixel[k]) {
+            diffuse[li] += to_diffuse[q][k];
+            specular[li] += to_specular[q][k];
+          } else {
+            own[li] += albedos[k].cwiseProduct(to_diffuse[q][k]) + to_specular[q][k];
+          }
         }
       }
     }
     shade_ns += std::chrono::duration<double, std::nano>(Clock::now() - shade_t0).count();
   }
-  const float inv = 1.0f / static_cast<float>(options.spp);
   for (int p = 0; p < kPackets; ++p) {
     for (int k = 0; k < 8; ++k) {
       if (!valid[p][k]) continue;
       int x, y;
       pixel_of(p, k, x, y);
-      const Eigen::Vector3f c = accum[p * 8 + k] * inv;
-      out.linear.at<cv::Vec3f>(y, x) = cv::Vec3f(c.x(), c.y(), c.z());
+      const int li = p * 8 + k;
+      const std::size_t i = static_cast<std::size_t>(y) * w + x;
+      PixelLighting::Reuse& reuse = lighting.reuse[i];
+      for (int c = 0; c < 3; ++c) reuse.own[c] = own[li][c];
+      if (surface0[li] < 0) continue;
+      const float inv = 1.0f / static_cast<float>(std::max(1, light_count[li]));
+      LightingGuide& guide = lighting.guide[i];
+      PixelLight& light = lighting.light[i];
+      guide.surface = surface0[li];
+      for (int c = 0; c < 3; ++c) {
+        guide.normal[c] = normal0[li][c];
+        guide.position[c] = position0[li][c];
+        light.diffuse[c] = diffuse[li][c] * inv;
+        light.specular[c] = specular[li][c] * inv;
+        reuse.sun.diffuse[c] = sun_diffuse[li][c] * inv;
+        reuse.sun.specular[c] = sun_specular[li][c] * inv;
+        reuse.albedo_sum[c] = albedo_sum[li][c];
+      }
+      reuse.count = static_cast<float>(reuse_count[li]);
     }
   }
 }
-
 RayQuery Renderer::cast(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction,
                         float max_distance) const {
   RayQuery q;

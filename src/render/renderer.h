@@ -6,9 +6,10 @@
 // rays/s than LOW for +5 ms of build on a 300k-triangle frame); geometry id = index into
 // Scene::instances.
 // Trace: TBB over 8×8-pixel tiles; each tile shoots 4×2-pixel packets (rtcIntersect8) per
-// sample, then shadow packets (rtcOccluded8) for the sun, one sampled point light and the
-// environment. Every random number comes from RandomStream(seed, {"pixel", index, sample}),
-// so the image is identical whatever the thread count or tile order.
+// sample, then, for the samples that light (see RenderOptions), shadow packets (rtcOccluded8)
+// for the sun, one sampled point light and the environment. Every random number comes from
+// RandomStream(seed, {"pixel", index, sample}), so the image is identical whatever the thread count
+// or tile order.
 
 #include <embree3/rtcore.h>
 
@@ -18,14 +19,23 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "render/denoise.h"
 #include "render/texture.h"
 #include "scene/scene.h"
 
 namespace wheelpose::render {
 
+// Decoupled shading: every sample finds its surface and colour (anti-aliasing, depth of field,
+// texture detail), but the lights are sampled only by the first `light_samples` samples of a
+// pixel; the pixel's other samples on the same surface reuse that lighting with their own
+// albedo (like MSAA), and samples on another surface (silhouettes, creases) are lit on their
+// own. The per-pixel lighting is then smoothed over neighbouring pixels of the same surface
+// (render/denoise.h). light_samples = spp with denoise_radius = 0 is brute-force sampling.
 struct RenderOptions {
-  int spp = 1;       // samples per pixel (anti-aliasing, soft shadows, depth of field)
-  bool post = true;  // apply Scene::post; false gives the plain sRGB encoding
+  int spp = 1;             // samples per pixel (anti-aliasing, depth of field)
+  int light_samples = 1;   // of those, how many sample the lights (1 … spp)
+  int denoise_radius = 3;  // lighting smoothing window (pixels; 0 = off)
+  bool post = true;        // apply Scene::post; false gives the plain sRGB encoding
 };
 
 // Ground-truth buffers come from one pinhole ray through each pixel centre, so labels are
@@ -42,8 +52,9 @@ struct FrameBuffers {
 // Wall-clock milliseconds per phase of the last render (trace and shade are CPU time summed
 // over threads, scaled to the wall time of the tracing loop).
 struct RenderTimings {
-  double trace_ms = 0;  // primary rays
-  double shade_ms = 0;  // shading incl. shadow and environment rays
+  double trace_ms = 0;    // primary rays
+  double shade_ms = 0;    // shading incl. shadow and environment rays
+  double denoise_ms = 0;  // lighting smoothing and compositing
   double post_ms = 0;
   long long rays = 0;  // all rays traced (primary + shadow + environment + ground truth)
 };
@@ -78,11 +89,13 @@ class Renderer {
   const RenderTimings& timings() const { return timings_; }
   const scene::Scene& scene() const { return scene_; }
 
-  struct Geometry;  // per-instance shading data (private to renderer.cpp)
+  struct Geometry;       // per-instance shading data (private to renderer.cpp)
+  struct PixelLighting;  // per-frame decoupled-shading buffers (private to renderer.cpp)
 
  private:
   void render_tile(int tile_x, int tile_y, const RenderOptions& options, FrameBuffers& out,
-                   double& trace_ns, double& shade_ns, long long& rays) const;
+                   PixelLighting& lighting, double& trace_ns, double& shade_ns,
+                   long long& rays) const;
   Eigen::Vector3f background(float px, float py, const Eigen::Vector3f& dir) const;
   Eigen::Vector3f environment(const Eigen::Vector3f& dir) const;
   // Importance sampling of an environment map by luminance × sin θ on a coarse grid: a
@@ -102,9 +115,9 @@ class Renderer {
   int env_grid_w_ = 0, env_grid_h_ = 0;
   std::vector<float> env_row_cdf_;   // env_grid_h_ + 1 entries, normalised
   std::vector<float> env_cell_cdf_;  // per row, env_grid_w_ + 1 entries, normalised
-  std::vector<int> lights_on_;    // indices of point lights that are on
-  std::vector<float> light_cdf_;    // power-proportional selection
-  std::vector<float> light_power_;  // per light that is on
+  std::vector<int> lights_on_;       // indices of point lights that are on
+  std::vector<float> light_cdf_;     // power-proportional selection
+  std::vector<float> light_power_;   // per light that is on
   // Up to this many lights are selected per shading point by their contribution there.
   static constexpr int kLocalLights = 16;
   double build_ms_ = 0;

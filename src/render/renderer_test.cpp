@@ -6,6 +6,7 @@
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
 
+#include "core/error.h"
 #include "render/test_scenes.h"
 
 namespace wheelpose::render {
@@ -219,6 +220,57 @@ namespace {
 // estimate must converge to the uniform sky's albedo × L (half the sphere is behind the wall,
 // so a wrong pdf or a lost cosine shows up as a factor); with a map bright on one side only,
 // the side facing the bright half gets more light.
+// Root-mean-square difference of two linear images.
+double rms(const cv::Mat& a, const cv::Mat& b) {
+  return cv::norm(a, b, cv::NORM_L2) / std::sqrt(static_cast<double>(a.total() * a.channels()));
+}
+
+// Decoupled shading (one light sample per pixel, reused by the other samples, denoised) must
+// converge to what lighting every sample gives, and with less noise than lighting one sample.
+TEST(Renderer, DecoupledShadingMatchesBruteForceWithLessNoise) {
+  const scene::Scene s = testing::shadow();
+  const cv::Mat reference =
+      Renderer(s)
+          .render({.spp = 64, .light_samples = 64, .denoise_radius = 0, .post = false})
+          .linear;
+  const cv::Mat decoupled = Renderer(s).render({.spp = 4, .post = false}).linear;
+  const cv::Mat raw =
+      Renderer(s).render({.spp = 4, .light_samples = 1, .denoise_radius = 0, .post = false}).linear;
+  const cv::Scalar mean_ref = cv::mean(reference), mean_dec = cv::mean(decoupled);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(mean_dec[c], mean_ref[c], 0.03 * mean_ref[c]) << c;
+  const double error_decoupled = rms(decoupled, reference), error_raw = rms(raw, reference);
+  EXPECT_LT(error_decoupled, 0.7 * error_raw) << error_decoupled << " vs " << error_raw;
+}
+
+// With every sample lighting and no smoothing, a pixel's samples on one untextured surface give
+// the brute-force estimate: Σ albedo × mean lighting = Σ albedo × lighting per sample.
+TEST(Renderer, AllLightSamplesWithoutDenoisingIsBruteForceOnPlainSurfaces) {
+  const scene::Scene s = testing::shadow();
+  const cv::Mat a =
+      Renderer(s)
+          .render({.spp = 16, .light_samples = 16, .denoise_radius = 0, .post = false})
+          .linear;
+  const cv::Mat b =
+      Renderer(s)
+          .render({.spp = 16, .light_samples = 16, .denoise_radius = 0, .post = false})
+          .linear;
+  EXPECT_EQ(cv::norm(a, b, cv::NORM_INF), 0.0);  // deterministic
+  const cv::Mat fewer =
+      Renderer(s)
+          .render({.spp = 16, .light_samples = 4, .denoise_radius = 0, .post = false})
+          .linear;
+  EXPECT_GT(cv::norm(a, fewer, cv::NORM_INF), 0.0);  // the option is honoured
+  EXPECT_NEAR(cv::mean(fewer)[1], cv::mean(a)[1], 0.03 * cv::mean(a)[1]);
+}
+
+TEST(Renderer, RejectsBadSamplingOptions) {
+  Renderer r(wall_scene(2.0f));
+  EXPECT_THROW(r.render({.spp = 0}), Error);
+  EXPECT_THROW(r.render({.spp = 2, .light_samples = 3}), Error);
+  EXPECT_THROW(r.render({.spp = 2, .light_samples = 0}), Error);
+  EXPECT_THROW(r.render({.spp = 2, .denoise_radius = -1}), Error);
+}
+
 TEST(Renderer, EnvironmentMapSamplingMatchesTheUniformSky) {
   const std::string dir = ::testing::TempDir();
   cv::Mat flat(64, 128, CV_32FC3, cv::Scalar::all(0.25));
@@ -228,11 +280,13 @@ TEST(Renderer, EnvironmentMapSamplingMatchesTheUniformSky) {
   scene::Environment uniform;
   uniform.color = Eigen::Vector3f(0.25f, 0.25f, 0.25f);
   s.environment = uniform;
-  const FrameBuffers expected = Renderer(s).render({.spp = 16, .post = false});
+  // Every sample lights, unsmoothed: this checks the estimator, not the denoiser.
+  const RenderOptions brute{.spp = 16, .light_samples = 16, .denoise_radius = 0, .post = false};
+  const FrameBuffers expected = Renderer(s).render(brute);
   scene::Environment mapped;
   mapped.path = dir + "/flat.exr";
   s.environment = mapped;
-  const FrameBuffers actual = Renderer(s).render({.spp = 16, .post = false});
+  const FrameBuffers actual = Renderer(s).render(brute);
   const double e = cv::mean(expected.linear)[0], a = cv::mean(actual.linear)[0];
   EXPECT_NEAR(e, 0.8 * 0.25, 0.01);
   EXPECT_NEAR(a, e, 0.02 * e);
