@@ -79,7 +79,7 @@ void filter_pass(const std::vector<LightingGuide>& guide, const std::vector<floa
 }  // namespace
 
 void denoise_lighting(int width, int height, const std::vector<LightingGuide>& guide, int radius,
-                      std::vector<PixelLight>& light) {
+                      std::vector<PixelLight>& light, std::vector<PixelLight>* scratch) {
   WHEELPOSE_CHECK(radius >= 0 && width >= 0 && height >= 0);
   const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   WHEELPOSE_CHECK(guide.size() == n && light.size() == n);
@@ -88,7 +88,9 @@ void denoise_lighting(int width, int height, const std::vector<LightingGuide>& g
   const float sigma = 0.5f * static_cast<float>(radius);
   for (int d = 0; d <= radius; ++d)
     kernel[d] = std::exp(-static_cast<float>(d * d) / (2 * sigma * sigma));
-  std::vector<PixelLight> rows_done(n);
+  std::vector<PixelLight> local;
+  std::vector<PixelLight>& rows_done = scratch ? *scratch : local;
+  rows_done.resize(n);  // every entry is written by the row pass
   filter_pass(guide, kernel, width, height, true, light, rows_done);
   filter_pass(guide, kernel, width, height, false, rows_done, light);
 }

@@ -27,7 +27,8 @@ struct PixelLight {
 // radius / 2 × normal agreement × tangent-plane distance, applied separably (a row pass, then a
 // column pass: 2·(2·radius + 1) taps instead of the square). Each output pixel is a pure
 // function of its window, so the result does not depend on the thread count.
+// `scratch`, when given, holds the intermediate pass (reused by callers that denoise per frame).
 void denoise_lighting(int width, int height, const std::vector<LightingGuide>& guide, int radius,
-                      std::vector<PixelLight>& light);
+                      std::vector<PixelLight>& light, std::vector<PixelLight>* scratch = nullptr);
 
 }  // namespace wheelpose::render

@@ -9,6 +9,8 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 #include <string>
@@ -63,6 +65,28 @@ void set_ray(RTCRay8& r, int k, const Eigen::Vector3f& o, const Eigen::Vector3f&
   r.flags[k] = 0;
 }
 
+// Reusable heap objects for concurrent callers: acquire() hands out a released one when there is
+// one, else a new one; at most as many exist as renders ever ran at once.
+template <typename T>
+class BufferPool {
+ public:
+  std::unique_ptr<T> acquire() {
+    std::lock_guard lock(mutex_);
+    if (free_.empty()) return std::make_unique<T>();
+    std::unique_ptr<T> item = std::move(free_.back());
+    free_.pop_back();
+    return item;
+  }
+  void release(std::unique_ptr<T> item) {
+    std::lock_guard lock(mutex_);
+    free_.push_back(std::move(item));
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::unique_ptr<T>> free_;
+};
+
 // Everything phase 2 (shading) needs about one primary ray.
 struct PrimarySample {
   Eigen::Vector3f origin, dir;
@@ -75,6 +99,7 @@ Renderer::Renderer(const scene::Scene& scene) : scene_(scene) {
   const auto start = Clock::now();
   // Textures first: a bad image fails before any Embree work.
   for (std::size_t i = 0; i < scene_.materials.size(); ++i) {
+    hue_rotations_.push_back(hue_rotation(scene_.materials[i].hue_offset_deg));
     const auto& t = scene_.materials[i].texture;
     material_textures_.emplace_back(t, scene::resolve_path(scene_, t.path),
                                     "/materials/" + std::to_string(i) + "/texture/path");
@@ -103,8 +128,12 @@ Renderer::Renderer(const scene::Scene& scene) : scene_(scene) {
   }
   for (float& c : light_cdf_) c /= total;
 
-  device_ = rtcNewDevice(nullptr);
-  if (!device_) throw Error("embree: cannot create a device", ErrorKind::kFailure);
+  // One Embree device for the process (devices are thread-safe): creating one per frame cost
+  // milliseconds and its memory pools.
+  static const RTCDevice shared_device = rtcNewDevice(nullptr);
+  if (!shared_device) throw Error("embree: cannot create a device", ErrorKind::kFailure);
+  device_ = shared_device;
+  rtcRetainDevice(device_);
   rtc_scene_ = rtcNewScene(device_);
   rtcSetSceneBuildQuality(rtc_scene_, RTC_BUILD_QUALITY_MEDIUM);
   geometries_.resize(scene_.instances.size());
@@ -264,6 +293,7 @@ struct Renderer::PixelLighting {
   std::vector<LightingGuide> guide;  // surface, normal and position of sample 0
   std::vector<PixelLight> light;     // point lights and sky, mean over the pixel's light samples
   std::vector<Reuse> reuse;
+  std::vector<PixelLight> denoise_scratch;
 };
 
 FrameBuffers Renderer::render(const RenderOptions& options) {
@@ -282,7 +312,11 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
   out.normals = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
   out.instance = cv::Mat(h, w, CV_16U, cv::Scalar::all(0));
   out.semantic = cv::Mat(h, w, CV_16U, cv::Scalar::all(0));
-  PixelLighting lighting;
+  // The decoupled-shading buffers (≈ 140 MB at 1280×720) come from a pool shared by all
+  // renderers: allocating them afresh each frame made the kernel fault in and zero every page.
+  static BufferPool<PixelLighting> pool;
+  std::unique_ptr<PixelLighting> pooled = pool.acquire();
+  PixelLighting& lighting = *pooled;
   const std::size_t pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
   lighting.guide.resize(pixels);
   lighting.light.resize(pixels);
@@ -307,7 +341,8 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
   timings_.rays = rays;
 
   const auto denoise_start = Clock::now();
-  denoise_lighting(w, h, lighting.guide, options.denoise_radius, lighting.light);
+  denoise_lighting(w, h, lighting.guide, options.denoise_radius, lighting.light,
+                   &lighting.denoise_scratch);
   // Radiance = (Σ albedo of the reusing samples ⊙ lighting + their specular + samples lit on
   // their own) / spp.
   const float inv = 1.0f / static_cast<float>(options.spp);
@@ -327,6 +362,7 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
     }
   });
   timings_.denoise_ms = ms_since(denoise_start);
+  pool.release(std::move(pooled));
 
   const auto post_start = Clock::now();
   out.rgb = options.post ? apply_post(out.linear, out.depth, scene_.post,
@@ -371,6 +407,8 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
   sun_diffuse.fill(Eigen::Vector3f::Zero());
   sun_specular.fill(Eigen::Vector3f::Zero());
   albedo_sum.fill(Eigen::Vector3f::Zero());
+  normal0.fill(Eigen::Vector3f::Zero());
+  position0.fill(Eigen::Vector3f::Zero());
   surface0.fill(-1);
   light_count.fill(0);
   reuse_count.fill(0);
@@ -535,10 +573,10 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
         Eigen::Vector2f uv = Eigen::Vector2f::Zero();
         if (!g.uvs.empty()) uv = bw * g.uvs[tri[0]] + u * g.uvs[tri[1]] + v * g.uvs[tri[2]];
         const scene::Material& m = scene_.materials[g.material];
-        const Eigen::Vector3f albedo =
-            rotate_hue(m.diffuse.cwiseProduct(material_textures_[g.material].at(uv.x(), uv.y())),
-                       m.hue_offset_deg)
-                .cwiseMin(1.0f);
+        Eigen::Vector3f albedo =
+            m.diffuse.cwiseProduct(material_textures_[g.material].at(uv.x(), uv.y()));
+        if (m.hue_offset_deg != 0.0f) albedo = (hue_rotations_[g.material] * albedo).cwiseMax(0.0f);
+        albedo = albedo.cwiseMin(1.0f);
         albedos[k] = albedo;
         if (s == 0) {
           surface0[li] = surface;
@@ -711,8 +749,8 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
       const int li = p * 8 + k;
       const std::size_t i = static_cast<std::size_t>(y) * w + x;
       PixelLighting::Reuse& reuse = lighting.reuse[i];
+      // Every field is written, background pixels included: the buffers come from a pool.
       for (int c = 0; c < 3; ++c) reuse.own[c] = own[li][c];
-      if (surface0[li] < 0) continue;
       const float inv = 1.0f / static_cast<float>(std::max(1, light_count[li]));
       LightingGuide& guide = lighting.guide[i];
       PixelLight& light = lighting.light[i];
@@ -730,6 +768,7 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
     }
   }
 }
+
 RayQuery Renderer::cast(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction,
                         float max_distance) const {
   RayQuery q;

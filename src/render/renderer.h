@@ -109,6 +109,7 @@ class Renderer {
   RTCScene rtc_scene_ = nullptr;
   std::vector<Geometry> geometries_;
   std::vector<TextureSampler> material_textures_;
+  std::vector<Eigen::Matrix3f> hue_rotations_;  // per material, of its hue offset
   TextureSampler background_texture_;
   cv::Mat background_image_;
   cv::Mat environment_map_;

@@ -136,14 +136,20 @@ float procedural_pattern(const scene::Texture& t, float u, float v) {
   return 0.0f;
 }
 
-Eigen::Vector3f rotate_hue(const Eigen::Vector3f& rgb, float degrees) {
-  if (degrees == 0.0f) return rgb;
-  // Rodrigues rotation about the unit grey axis g = (1, 1, 1)/√3.
+Eigen::Matrix3f hue_rotation(float degrees) {
+  // Rodrigues rotation about the unit grey axis g = (1, 1, 1)/√3:
+  // R = cos a · I + sin a · [g]× + (1 − cos a) · g gᵀ.
   const float a = degrees * std::numbers::pi_v<float> / 180.0f;
   const Eigen::Vector3f g = Eigen::Vector3f::Constant(1.0f / std::sqrt(3.0f));
-  const Eigen::Vector3f r =
-      rgb * std::cos(a) + g.cross(rgb) * std::sin(a) + g * g.dot(rgb) * (1.0f - std::cos(a));
-  return r.cwiseMax(0.0f);
+  Eigen::Matrix3f cross;
+  cross << 0, -g.z(), g.y(), g.z(), 0, -g.x(), -g.y(), g.x(), 0;
+  return std::cos(a) * Eigen::Matrix3f::Identity() + std::sin(a) * cross +
+         (1.0f - std::cos(a)) * g * g.transpose();
+}
+
+Eigen::Vector3f rotate_hue(const Eigen::Vector3f& rgb, float degrees) {
+  if (degrees == 0.0f) return rgb;
+  return (hue_rotation(degrees) * rgb).cwiseMax(0.0f);
 }
 
 TextureSampler::TextureSampler(const scene::Texture& texture, const std::string& resolved_path,

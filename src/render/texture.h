@@ -24,8 +24,10 @@ Eigen::Vector3f sample_bilinear(const cv::Mat& image, float u, float v);
 // The pattern value t ∈ [0, 1] of a procedural texture at uv (already multiplied by scale).
 float procedural_pattern(const scene::Texture& texture, float u, float v);
 
-// Rotates the hue of a linear RGB colour about the grey axis by `degrees`, keeping R+G+B.
+// Rotates the hue of a linear RGB colour about the grey axis by `degrees`, keeping R+G+B
+// (negative results clamp to 0). hue_rotation is the matrix, for callers that reuse it.
 Eigen::Vector3f rotate_hue(const Eigen::Vector3f& rgb, float degrees);
+Eigen::Matrix3f hue_rotation(float degrees);
 
 // A texture ready to evaluate (the image decoded once).
 class TextureSampler {
