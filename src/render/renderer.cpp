@@ -135,7 +135,7 @@ Renderer::Renderer(const scene::Scene& scene) : scene_(scene) {
   device_ = shared_device;
   rtcRetainDevice(device_);
   rtc_scene_ = rtcNewScene(device_);
-  rtcSetSceneBuildQuality(rtc_scene_, RTC_BUILD_QUALITY_MEDIUM);
+  rtcSetSceneBuildQuality(rtc_scene_, RTC_BUILD_QUALITY_LOW);
   geometries_.resize(scene_.instances.size());
   for (std::size_t i = 0; i < scene_.instances.size(); ++i) {
     const auto& in = scene_.instances[i];
