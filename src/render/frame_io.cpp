@@ -1,5 +1,7 @@
 #include "render/frame_io.h"
 
+#include <tbb/parallel_invoke.h>
+
 #include <chrono>
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
@@ -50,17 +52,24 @@ std::vector<std::uint8_t> encode_png(const cv::Mat& image_rgb) {
   return bytes;
 }
 
+std::vector<std::pair<std::string, std::vector<std::uint8_t>>> encode_frame(
+    const FrameBuffers& frame) {
+  std::vector<std::pair<std::string, std::vector<std::uint8_t>>> files = {
+      {"rgb.png", {}}, {"depth.png", {}}, {"normals.png", {}}, {"instance.png", {}},
+      {"semantic.png", {}}};
+  tbb::parallel_invoke([&] { files[0].second = encode_png(frame.rgb); },
+                       [&] { files[1].second = encode_png(depth_to_millimetres(frame.depth)); },
+                       [&] { files[2].second = encode_png(normals_to_u16(frame.normals)); },
+                       [&] { files[3].second = encode_png(frame.instance); },
+                       [&] { files[4].second = encode_png(frame.semantic); });
+  return files;
+}
+
 WriteTimings write_frame(const FrameBuffers& frame, const std::filesystem::path& dir) {
   using Clock = std::chrono::steady_clock;
   WriteTimings t;
   auto t0 = Clock::now();
-  const std::pair<const char*, std::vector<std::uint8_t>> files[] = {
-      {"rgb.png", encode_png(frame.rgb)},
-      {"depth.png", encode_png(depth_to_millimetres(frame.depth))},
-      {"normals.png", encode_png(normals_to_u16(frame.normals))},
-      {"instance.png", encode_png(frame.instance)},
-      {"semantic.png", encode_png(frame.semantic)},
-  };
+  const auto files = encode_frame(frame);
   auto t1 = Clock::now();
   ensure_directory(dir);
   for (const auto& [name, bytes] : files)

@@ -9,6 +9,8 @@
 #include <cstdint>
 #include <filesystem>
 #include <opencv2/core.hpp>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "render/renderer.h"
@@ -20,6 +22,10 @@ cv::Mat normals_to_u16(const cv::Mat& normals);      // CV_32FC3 → CV_16UC3 (R
 
 // PNG bytes of an RGB (8- or 16-bit, 1 or 3 channels) image.
 std::vector<std::uint8_t> encode_png(const cv::Mat& image_rgb);
+
+// The five PNGs of a frame, as (file name, bytes) in the order listed above; encoded in parallel.
+std::vector<std::pair<std::string, std::vector<std::uint8_t>>> encode_frame(
+    const FrameBuffers& frame);
 
 // Timing of write_frame: encoding and writing (ms).
 struct WriteTimings {
