@@ -412,14 +412,23 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
   surface0.fill(-1);
   light_count.fill(0);
   reuse_count.fill(0);
-  std::vector<RandomStream> streams;
-  streams.reserve(kPixels);
-  const StreamKey pixel_key("pixel");
-
   auto pixel_of = [&](int p, int k, int& x, int& y) {
     x = tile_x * kTile + (p % 2) * 4 + k % 4;
     y = tile_y * kTile + (p / 2) * 2 + k / 4;
   };
+  // One stream per pixel, drawn from in sample order: what a pixel draws depends only on its
+  // own hits, so the image does not depend on tiles or threads.
+  std::vector<RandomStream> streams;
+  streams.reserve(kPixels);
+  const StreamKey pixel_key("pixel");
+  for (int p = 0; p < kPackets; ++p) {
+    for (int k = 0; k < 8; ++k) {
+      int x, y;
+      pixel_of(p, k, x, y);
+      streams.emplace_back(scene_.seed, std::initializer_list<StreamKey>{
+                                            pixel_key, static_cast<std::uint64_t>(y) * w + x});
+    }
+  }
   RTCIntersectContext coherent;
   rtcInitIntersectContext(&coherent);
   coherent.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -511,14 +520,11 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
   constexpr float kReuseNormalCos = 0.95f;
   for (int s = 0; s < options.spp; ++s) {
     const auto shade_start = Clock::now();
-    streams.clear();
     for (int p = 0; p < kPackets; ++p) {
       for (int k = 0; k < 8; ++k) {
         int x, y;
         pixel_of(p, k, x, y);
-        streams.emplace_back(scene_.seed, std::initializer_list<StreamKey>{
-                                              pixel_key, static_cast<std::uint64_t>(y) * w + x, s});
-        RandomStream& rng = streams.back();
+        RandomStream& rng = streams[p * 8 + k];
         // Sample 0 goes through the pixel centre; later ones are jittered over the pixel.
         const float jx = s == 0 ? 0.5f : static_cast<float>(rng.uniform01());
         const float jy = s == 0 ? 0.5f : static_cast<float>(rng.uniform01());

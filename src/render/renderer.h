@@ -8,8 +8,8 @@
 // Trace: TBB over 8×8-pixel tiles; each tile shoots 4×2-pixel packets (rtcIntersect8) per
 // sample, then, for the samples that light (see RenderOptions), shadow packets (rtcOccluded8)
 // for the sun, one sampled point light and the environment. Every random number comes from
-// RandomStream(seed, {"pixel", index, sample}), so the image is identical whatever the thread count
-// or tile order.
+// RandomStream(seed, {"pixel", index}), drawn in sample order, so the image is identical whatever
+// the thread count or tile order.
 
 #include <embree3/rtcore.h>
 
