@@ -194,11 +194,23 @@ Eigen::Vector3f Renderer::environment(const Eigen::Vector3f& d) const {
   return sample_bilinear(environment_map_, u, std::min(v, 0.9999f)) * e.intensity;
 }
 
+Eigen::Vector3f Renderer::environment_lighting(const Eigen::Vector3f& d) const {
+  const auto& e = *scene_.environment;
+  const float u = 0.5f + std::atan2(d.x(), -d.z()) / (2 * kPi) + e.rotation_deg / 360.0f;
+  const float theta = std::acos(std::clamp(d.y(), -1.0f, 1.0f));
+  const int x = std::clamp(static_cast<int>((u - std::floor(u)) * env_grid_w_), 0, env_grid_w_ - 1);
+  const int y = std::clamp(static_cast<int>(theta / kPi * env_grid_h_), 0, env_grid_h_ - 1);
+  const cv::Vec3f c = environment_lighting_map_.at<cv::Vec3f>(y, x);
+  return Eigen::Vector3f(c[0], c[1], c[2]) * e.intensity;
+}
+
 void Renderer::build_environment_sampling() {
-  // A coarse grid is enough to find the bright regions (sun, windows) of an HDRI.
-  env_grid_w_ = std::min(environment_map_.cols, 256);
-  env_grid_h_ = std::min(environment_map_.rows, 128);
-  cv::Mat small;
+  // The map's own resolution (up to 2048 × 1024): a coarser grid averages a bright sun pixel
+  // (≈ 34 000 in Blender's maps, whose mean is ≈ 1) into its cell, so the pdf underestimates it
+  // and the few rays that hit it become fireflies.
+  env_grid_w_ = std::min(environment_map_.cols, 2048);
+  env_grid_h_ = std::min(environment_map_.rows, 1024);
+  cv::Mat& small = environment_lighting_map_;
   cv::resize(environment_map_, small, cv::Size(env_grid_w_, env_grid_h_), 0, 0, cv::INTER_AREA);
   env_row_cdf_.assign(static_cast<std::size_t>(env_grid_h_) + 1, 0.0f);
   env_cell_cdf_.assign(static_cast<std::size_t>(env_grid_h_) * (env_grid_w_ + 1), 0.0f);
@@ -700,7 +712,7 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
           if (pdf > 0 && c > 0 && ng.dot(l) > 0) {
             set_ray(shadow[2], k, origin, l, kInf);
             shadow_valid[2][k] = -1;
-            to_diffuse[2][k] = environment(l) * (c / (kPi * pdf));
+            to_diffuse[2][k] = environment_lighting(l) * (c / (kPi * pdf));
             to_specular[2][k] = Eigen::Vector3f::Zero();
           }
         } else if (env_on) {

@@ -97,7 +97,10 @@ class Renderer {
                    PixelLighting& lighting, double& trace_ns, double& shade_ns,
                    long long& rays) const;
   Eigen::Vector3f background(float px, float py, const Eigen::Vector3f& dir) const;
-  Eigen::Vector3f environment(const Eigen::Vector3f& dir) const;
+  Eigen::Vector3f environment(const Eigen::Vector3f& dir) const;  // bilinear: what the camera sees
+  // The radiance lighting uses: nearest cell of the sampling grid, so it matches the sampling
+  // pdf exactly (a bilinear lookup next to a 34 000-bright sun pixel made fireflies).
+  Eigen::Vector3f environment_lighting(const Eigen::Vector3f& dir) const;
   // Importance sampling of an environment map by luminance × sin θ on a coarse grid: a
   // direction and its solid-angle pdf from two uniform numbers.
   void build_environment_sampling();
@@ -113,6 +116,7 @@ class Renderer {
   TextureSampler background_texture_;
   cv::Mat background_image_;
   cv::Mat environment_map_;
+  cv::Mat environment_lighting_map_;  // the map at the sampling grid's resolution
   int env_grid_w_ = 0, env_grid_h_ = 0;
   std::vector<float> env_row_cdf_;   // env_grid_h_ + 1 entries, normalised
   std::vector<float> env_cell_cdf_;  // per row, env_grid_w_ + 1 entries, normalised

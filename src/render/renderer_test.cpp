@@ -271,6 +271,27 @@ TEST(Renderer, RejectsBadSamplingOptions) {
   EXPECT_THROW(r.render({.spp = 2, .denoise_radius = -1}), Error);
 }
 
+// A map with a tiny, very bright sun (like Blender's HDRIs: 34 000 against a mean of 1) must not
+// give fireflies: every pixel of a plain wall lit by it stays near the image mean.
+TEST(Renderer, EnvironmentMapWithASmallSunHasNoFireflies) {
+  const std::string dir = ::testing::TempDir();
+  cv::Mat map(64, 128, CV_32FC3, cv::Scalar::all(0.5));
+  // Straight behind the camera (+Z, which the wall faces): column 0, the horizon rows.
+  for (int y = 31; y <= 32; ++y) map.at<cv::Vec3f>(y, 0) = cv::Vec3f(20000, 20000, 20000);
+  cv::imwrite(dir + "/small_sun.exr", map);
+  scene::Scene s = wall_scene(2.0f);
+  scene::Environment sky;
+  sky.path = dir + "/small_sun.exr";
+  s.environment = sky;
+  const cv::Mat linear =
+      Renderer(s).render({.spp = 4, .light_samples = 4, .denoise_radius = 0, .post = false}).linear;
+  double low = 0, high = 0;
+  cv::minMaxLoc(linear.reshape(1), &low, &high);
+  const double mean = cv::mean(linear)[0];
+  EXPECT_GT(mean, 0.0);
+  EXPECT_LT(high, 3.0 * mean) << "max " << high << " mean " << mean;
+}
+
 TEST(Renderer, EnvironmentMapSamplingMatchesTheUniformSky) {
   const std::string dir = ::testing::TempDir();
   cv::Mat flat(64, 128, CV_32FC3, cv::Scalar::all(0.25));
