@@ -54,9 +54,11 @@ std::vector<std::uint8_t> encode_png(const cv::Mat& image_rgb) {
 
 std::vector<std::pair<std::string, std::vector<std::uint8_t>>> encode_frame(
     const FrameBuffers& frame) {
-  std::vector<std::pair<std::string, std::vector<std::uint8_t>>> files = {
-      {"rgb.png", {}}, {"depth.png", {}}, {"normals.png", {}}, {"instance.png", {}},
-      {"semantic.png", {}}};
+  std::vector<std::pair<std::string, std::vector<std::uint8_t>>> files = {{"rgb.png", {}},
+                                                                          {"depth.png", {}},
+                                                                          {"normals.png", {}},
+                                                                          {"instance.png", {}},
+                                                                          {"semantic.png", {}}};
   tbb::parallel_invoke([&] { files[0].second = encode_png(frame.rgb); },
                        [&] { files[1].second = encode_png(depth_to_millimetres(frame.depth)); },
                        [&] { files[2].second = encode_png(normals_to_u16(frame.normals)); },

@@ -23,6 +23,7 @@ namespace wheelpose::render {
 
 struct Renderer::Geometry {
   bool present = false;
+  const float* vertices = nullptr;       // world space, 3 floats each (Embree's vertex buffer)
   std::vector<Eigen::Vector3f> normals;  // world space; empty → geometric normal
   std::vector<Eigen::Vector2f> uvs;
   std::vector<Eigen::Vector3i> triangles;
@@ -86,6 +87,20 @@ class BufferPool {
   std::mutex mutex_;
   std::vector<std::unique_ptr<T>> free_;
 };
+
+// Width of one pixel in uv units at a hit on triangle `tri`: the pixel's width in metres at
+// `distance` (`pixel_angle` radians), widened by the slant as the geometric mean of the two
+// axes, times the triangle's uv units per metre. 0 when the triangle has no uv extent.
+float uv_footprint(const Renderer::Geometry& g, const Eigen::Vector3i& tri, float distance,
+                   float cos_view, float pixel_angle) {
+  auto p = [&](int i) { return Eigen::Map<const Eigen::Vector3f>(g.vertices + 3 * i); };
+  const float area_world = (p(tri[1]) - p(tri[0])).cross(p(tri[2]) - p(tri[0])).norm();
+  const Eigen::Vector2f a = g.uvs[tri[1]] - g.uvs[tri[0]], b = g.uvs[tri[2]] - g.uvs[tri[0]];
+  const float area_uv = std::abs(a.x() * b.y() - a.y() * b.x());
+  if (area_world <= 0.0f || area_uv <= 0.0f) return 0.0f;
+  const float metres = distance * pixel_angle / std::sqrt(std::max(std::abs(cos_view), 0.05f));
+  return metres * std::sqrt(area_uv / area_world);
+}
 
 // Everything phase 2 (shading) needs about one primary ray.
 struct PrimarySample {
@@ -156,6 +171,7 @@ Renderer::Renderer(const scene::Scene& scene) : scene_(scene) {
     auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
                                                           RTC_FORMAT_FLOAT3, 3 * sizeof(float),
                                                           mesh.positions.size()));
+    g.vertices = v;
     for (std::size_t k = 0; k < mesh.positions.size(); ++k) {
       const Eigen::Vector3f p = xf * mesh.positions[k];
       v[3 * k] = p.x();
@@ -281,7 +297,7 @@ Eigen::Vector3f Renderer::background(float px, float py, const Eigen::Vector3f& 
   }
   if (background_texture_.active()) {
     // Square cells in screen space; an image texture tiles and tints with the colour.
-    const Eigen::Vector3f t = background_texture_.at(px / h, 1.0f - py / h);
+    const Eigen::Vector3f t = background_texture_.at(px / h, 1.0f - py / h, 1.0f / h);
     return scene_.background.texture.kind == scene::TextureKind::kImage
                ? Eigen::Vector3f(scene_.background.color.cwiseProduct(t))
                : t;
@@ -402,6 +418,7 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
   Eigen::Vector3f sun_u, sun_v;
   basis(sun_dir, sun_u, sun_v);
   const bool env_on = scene_.environment.has_value();
+  const float pixel_angle = 2.0f * tan_half / static_cast<float>(h);  // radians per pixel
 
   constexpr int kPixels = kTile * kTile;
   constexpr int kPackets = kPixels / 8;  // 4×2-pixel packets per tile
@@ -591,8 +608,12 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
         Eigen::Vector2f uv = Eigen::Vector2f::Zero();
         if (!g.uvs.empty()) uv = bw * g.uvs[tri[0]] + u * g.uvs[tri[1]] + v * g.uvs[tri[2]];
         const scene::Material& m = scene_.materials[g.material];
-        Eigen::Vector3f albedo =
-            m.diffuse.cwiseProduct(material_textures_[g.material].at(uv.x(), uv.y()));
+        const TextureSampler& texture = material_textures_[g.material];
+        const float footprint =
+            texture.filters_detail() && !g.uvs.empty()
+                ? uv_footprint(g, tri, rh.ray.tfar[k], n.dot(ps.dir), pixel_angle)
+                : 0.0f;
+        Eigen::Vector3f albedo = m.diffuse.cwiseProduct(texture.at(uv.x(), uv.y(), footprint));
         if (m.hue_offset_deg != 0.0f) albedo = (hue_rotations_[g.material] * albedo).cwiseMax(0.0f);
         albedo = albedo.cwiseMin(1.0f);
         albedos[k] = albedo;

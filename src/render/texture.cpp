@@ -36,15 +36,31 @@ float value_noise(std::uint64_t seed, float u, float v) {
   return (a + (b - a) * tx) + ((c + (d - c) * tx) - (a + (b - a) * tx)) * ty;
 }
 
-// Fractal sum of four octaves, in [0, 1].
-float fbm(std::uint64_t seed, float u, float v) {
-  float sum = 0.0f, amp = 0.5f, norm = 0.0f;
+// How much of a pattern of `frequency` cycles per unit survives a pixel `footprint` units wide:
+// 1 while a cycle spans two or more pixels, fading to 0 (the pattern's mean) once it spans
+// less than two thirds of one.
+float detail_weight(float footprint, float frequency) {
+  return std::clamp(1.5f - footprint * frequency, 0.0f, 1.0f);
+}
+
+// Fractal sum of four octaves, in [0, 1]. Octaves finer than the footprint fade to their mean
+// (and are not evaluated once gone), so distant noise neither aliases nor costs its fine octaves.
+float fbm(std::uint64_t seed, float u, float v, float footprint) {
+  float sum = 0.0f, amp = 0.5f, norm = 0.0f, frequency = 1.0f;
   for (int o = 0; o < 4; ++o) {
-    sum += amp * value_noise(seed + o, u, v);
+    const float w = detail_weight(footprint, frequency);
+    if (w >= 1.0f) {
+      sum += amp * value_noise(seed + o, u, v);
+    } else if (w > 0.0f) {
+      sum += amp * (w * value_noise(seed + o, u, v) + (1.0f - w) * 0.5f);
+    } else {
+      sum += amp * 0.5f;
+    }
     norm += amp;
     amp *= 0.5f;
     u *= 2.0f;
     v *= 2.0f;
+    frequency *= 2.0f;
   }
   return sum / norm;
 }
@@ -100,7 +116,7 @@ Eigen::Vector3f sample_bilinear(const cv::Mat& image, float u, float v) {
          ty * ((1 - tx) * px(ix, iy + 1) + tx * px(ix + 1, iy + 1));
 }
 
-float procedural_pattern(const scene::Texture& t, float u, float v) {
+float procedural_pattern(const scene::Texture& t, float u, float v, float footprint) {
   using scene::TextureKind;
   switch (t.kind) {
     case TextureKind::kChecker:
@@ -110,25 +126,29 @@ float procedural_pattern(const scene::Texture& t, float u, float v) {
       // Soft-edged stripes across u.
       return std::clamp(0.5f + 2.0f * std::sin(kTwoPi * u), 0.0f, 1.0f);
     case TextureKind::kNoise:
-      return fbm(t.seed, u, v);
+      return fbm(t.seed, u, v, footprint);
     case TextureKind::kFabric: {
       // Plain weave: alternate cells carry warp or weft threads, each with a round profile.
       const bool warp =
           ((static_cast<long>(std::floor(u)) + static_cast<long>(std::floor(v))) & 1) != 0;
       const float across = warp ? fract(u * 4.0f) : fract(v * 4.0f);
-      const float thread = std::sin(std::numbers::pi_v<float> * across);
-      return std::clamp(0.8f * thread + 0.2f * t.turbulence * fbm(t.seed, u * 8, v * 8), 0.0f,
-                        1.0f);
+      // Threads finer than the pixel fade to their mean profile, 2/π.
+      const float w = detail_weight(footprint, 4.0f);
+      const float thread = w * std::sin(std::numbers::pi_v<float> * across) +
+                           (1.0f - w) * (2.0f / std::numbers::pi_v<float>);
+      return std::clamp(
+          0.8f * thread + 0.2f * t.turbulence * fbm(t.seed, u * 8, v * 8, footprint * 8), 0.0f,
+          1.0f);
     }
     case TextureKind::kWood: {
       // Growth rings around an axis near the texture's corner, warped by noise.
       const float r = std::sqrt((u + 0.3f) * (u + 0.3f) + 0.1f * (v * v));
-      const float w = r + 0.3f * t.turbulence * fbm(t.seed, u * 2, v * 2);
+      const float w = r + 0.3f * t.turbulence * fbm(t.seed, u * 2, v * 2, footprint * 2);
       return std::pow(fract(w), 3.0f);
     }
     case TextureKind::kMarble:
-      return 0.5f +
-             0.5f * std::sin(kTwoPi * 0.5f * (u + v) + 4.0f * t.turbulence * fbm(t.seed, u, v));
+      return 0.5f + 0.5f * std::sin(kTwoPi * 0.5f * (u + v) +
+                                    4.0f * t.turbulence * fbm(t.seed, u, v, footprint));
     case TextureKind::kNone:
     case TextureKind::kImage:
       break;
@@ -158,10 +178,17 @@ TextureSampler::TextureSampler(const scene::Texture& texture, const std::string&
   if (texture.kind == scene::TextureKind::kImage) image_ = load_linear_image(resolved_path, what);
 }
 
-Eigen::Vector3f TextureSampler::at(float u, float v) const {
+bool TextureSampler::filters_detail() const {
+  using scene::TextureKind;
+  return texture_.kind == TextureKind::kNoise || texture_.kind == TextureKind::kFabric ||
+         texture_.kind == TextureKind::kWood || texture_.kind == TextureKind::kMarble;
+}
+
+Eigen::Vector3f TextureSampler::at(float u, float v, float footprint) const {
   if (texture_.kind == scene::TextureKind::kNone) return Eigen::Vector3f::Ones();
   if (texture_.kind == scene::TextureKind::kImage) return sample_bilinear(image_, u, 1.0f - v);
-  const float t = procedural_pattern(texture_, u * texture_.scale, v * texture_.scale);
+  const float t = procedural_pattern(texture_, u * texture_.scale, v * texture_.scale,
+                                     footprint * texture_.scale);
   return texture_.color_a + t * (texture_.color_b - texture_.color_a);
 }
 

@@ -22,7 +22,10 @@ cv::Mat load_linear_image(const std::string& path, const std::string& what);
 Eigen::Vector3f sample_bilinear(const cv::Mat& image, float u, float v);
 
 // The pattern value t ∈ [0, 1] of a procedural texture at uv (already multiplied by scale).
-float procedural_pattern(const scene::Texture& texture, float u, float v);
+// `footprint` is the width of one pixel in the same units (0 = a point): noise octaves and
+// fabric threads finer than that fade to their mean, a cheap stand-in for filtering the pattern
+// over the pixel.
+float procedural_pattern(const scene::Texture& texture, float u, float v, float footprint = 0);
 
 // Rotates the hue of a linear RGB colour about the grey axis by `degrees`, keeping R+G+B
 // (negative results clamp to 0). hue_rotation is the matrix, for callers that reuse it.
@@ -37,7 +40,10 @@ class TextureSampler {
                  const std::string& what);
   bool active() const { return texture_.kind != scene::TextureKind::kNone; }
   // The colour at uv: a multiplier for image textures, the blended colours for procedural ones.
-  Eigen::Vector3f at(float u, float v) const;
+  // `footprint`: one pixel's width in uv units (see procedural_pattern; images ignore it).
+  Eigen::Vector3f at(float u, float v, float footprint = 0) const;
+  // Whether `at` uses the footprint (noise-based procedural patterns).
+  bool filters_detail() const;
   const cv::Mat& image() const { return image_; }
 
  private:

@@ -52,6 +52,49 @@ TEST(Texture, ProceduralPatternsStayInRangeAndVary) {
   EXPECT_EQ(procedural_pattern(checker, -0.5f, 0.5f), 1.0f);
 }
 
+// Detail finer than the pixel fades to the pattern's mean: the spread of values shrinks as the
+// footprint grows, reaching a constant once every octave (or thread) is below a pixel.
+TEST(Texture, DetailFinerThanThePixelFadesToItsMean) {
+  for (auto kind : {scene::TextureKind::kNoise, scene::TextureKind::kFabric,
+                    scene::TextureKind::kWood, scene::TextureKind::kMarble}) {
+    scene::Texture t;
+    t.kind = kind;
+    auto spread = [&](float footprint) {
+      float lo = 1, hi = 0;
+      for (int i = 0; i < 400; ++i) {
+        const float u = 0.037f * i, v = 0.051f * (i % 37);
+        // A point footprint is the unfiltered pattern.
+        if (footprint == 0) {
+          EXPECT_EQ(procedural_pattern(t, u, v, 0), procedural_pattern(t, u, v));
+        }
+        const float x = procedural_pattern(t, u, v, footprint);
+        lo = std::min(lo, x);
+        hi = std::max(hi, x);
+      }
+      return hi - lo;
+    };
+    const float sharp = spread(0), soft = spread(0.2f), gone = spread(100);
+    if (kind == scene::TextureKind::kNoise || kind == scene::TextureKind::kFabric) {
+      EXPECT_LT(soft, sharp) << static_cast<int>(kind);
+      EXPECT_EQ(gone, 0.0f) << static_cast<int>(kind);  // nothing left but the mean
+    }
+  }
+  // Rings and veins are coarser than any octave: they stay, and only their noise warp fades to
+  // its mean (fbm = 0.5).
+  scene::Texture wood, marble;
+  wood.kind = scene::TextureKind::kWood;
+  marble.kind = scene::TextureKind::kMarble;
+  const float u = 0.7f, v = 0.3f, pi = 3.14159265f;
+  const float r = std::sqrt((u + 0.3f) * (u + 0.3f) + 0.1f * v * v);
+  const float ring = r + 0.3f * wood.turbulence * 0.5f;
+  EXPECT_NEAR(procedural_pattern(wood, u, v, 100), std::pow(ring - std::floor(ring), 3.0f), 1e-5f);
+  EXPECT_NEAR(procedural_pattern(marble, u, v, 100),
+              0.5f + 0.5f * std::sin(pi * (u + v) + 4.0f * marble.turbulence * 0.5f), 1e-5f);
+  scene::Texture noise;
+  noise.kind = scene::TextureKind::kNoise;
+  EXPECT_FLOAT_EQ(procedural_pattern(noise, 3.1f, 4.2f, 100), 0.5f);
+}
+
 TEST(Texture, NoiseDependsOnTheSeedOnly) {
   scene::Texture a, b;
   a.kind = b.kind = scene::TextureKind::kNoise;
