@@ -12,7 +12,7 @@ namespace wheelpose::render {
 
 namespace {
 
-// Normals closer than this cosine (≈ 26°) never mix: creases and box edges stay sharp.
+// Normals more than ≈ 26° apart (cosine below this) never mix: creases and box edges stay sharp.
 constexpr float kMinNormalCos = 0.9f;
 // Tangent-plane test on the sine of the angle between the step to the neighbour and the centre's
 // tangent plane, |n · (x_q − x_p)| / ‖x_q − x_p‖: the weight halves at kPlaneSine and is 0 from
