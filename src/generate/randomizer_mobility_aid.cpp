@@ -13,6 +13,10 @@ class MobilityAidRandomizer final : public Randomizer {
         crutches_(number_or(c, "crutches_weight", 0.4, 0, 1e6)),
         walker_(number_or(c, "walker_weight", 0.2, 0, 1e6)) {
     if (cane_ + crutches_ + walker_ <= 0) c->fail("the three weights add up to 0");
+    type_ = ScalarSampler::categorical({static_cast<double>(body::MobilityAidType::kCane),
+                                        static_cast<double>(body::MobilityAidType::kCrutches),
+                                        static_cast<double>(body::MobilityAidType::kWalker)},
+                                       {cane_, crutches_, walker_});
   }
 
   void apply(FrameDraft& f, RandomStream&, const RandomizerContext&) const override {
@@ -21,10 +25,7 @@ class MobilityAidRandomizer final : public Randomizer {
       RandomStream member(p.spec.seed, {"mobility_aid_type"});
       p.spec.mobility_aid = body::MobilityAidType::kNone;
       if (!member.bernoulli(probability_)) continue;
-      const double u = member.uniform01() * (cane_ + crutches_ + walker_);
-      p.spec.mobility_aid = u < cane_              ? body::MobilityAidType::kCane
-                            : u < cane_ + crutches_ ? body::MobilityAidType::kCrutches
-                                                    : body::MobilityAidType::kWalker;
+      p.spec.mobility_aid = static_cast<body::MobilityAidType>(type_.sample(member));
     }
   }
 
@@ -37,6 +38,7 @@ class MobilityAidRandomizer final : public Randomizer {
 
  private:
   double probability_, cane_, crutches_, walker_;
+  ScalarSampler type_;  // over the aid types, by the weights
 };
 
 }  // namespace

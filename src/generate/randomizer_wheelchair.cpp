@@ -13,22 +13,19 @@ class WheelchairRandomizer final : public Randomizer {
         power_(number_or(c, "power_weight", 0.25, 0, 1e6)),
         cc_by_(number_or(c, "cc_by_weight", 0.0, 0, 1e6)) {
     if (manual_ + sport_ + power_ + cc_by_ <= 0) c->fail("the weights add up to 0");
+    type_ = ScalarSampler::categorical({static_cast<double>(body::WheelchairType::kManual),
+                                        static_cast<double>(body::WheelchairType::kSport),
+                                        static_cast<double>(body::WheelchairType::kPower),
+                                        static_cast<double>(body::WheelchairType::kCcBy)},
+                                       {manual_, sport_, power_, cc_by_});
   }
 
   void apply(FrameDraft& f, RandomStream&, const RandomizerContext&) const override {
     for (PersonDraft& p : f.people) {
       RandomStream member(p.spec.seed, {"wheelchair_type"});
-      p.spec.wheelchair = pick(member);
+      p.spec.wheelchair = static_cast<body::WheelchairType>(type_.sample(member));
       p.chair_colours = colours(member);
     }
-  }
-
-  body::WheelchairType pick(RandomStream& rng) const {
-    const double u = rng.uniform01() * (manual_ + sport_ + power_ + cc_by_);
-    return u < manual_                    ? body::WheelchairType::kManual
-           : u < manual_ + sport_          ? body::WheelchairType::kSport
-           : u < manual_ + sport_ + power_ ? body::WheelchairType::kPower
-                                           : body::WheelchairType::kCcBy;
   }
 
   static std::array<Eigen::Vector3f, 4> colours(RandomStream& rng) {
@@ -50,6 +47,7 @@ class WheelchairRandomizer final : public Randomizer {
 
  private:
   double manual_, sport_, power_, cc_by_;
+  ScalarSampler type_;  // over the WheelchairType values, by the weights
 };
 
 }  // namespace
@@ -59,7 +57,8 @@ extern const RandomizerEntry kWheelchairRandomizer = {
     "Chooses each person's wheelchair type with weights `manual_weight` 0.6, `sport_weight` "
     "0.15, `power_weight` 0.25 and `cc_by_weight` 0 (the CC-BY \"Wheel Chair\" model by bgamage "
     "from `sweethome3d-furniture`, scaled under the fitted seat; opt-in because anything "
-    "published with it must carry its credit), and its colours (frame U(0.05, 0.9), upholstery U(0.02, 0.4), "
+    "published with it must carry its credit), and its colours (frame U(0.05, 0.9), upholstery "
+    "U(0.02, 0.4), "
     "tyres dark grey, trim U(0.3, 0.8) per channel). Dimensions are fitted to the body by the "
     "body stage. Fixed per pool member. New in WheelPose (the authors' chair was a cube "
     "placeholder).",
