@@ -165,10 +165,14 @@ void BM_RayThroughput(benchmark::State& state) {
 BENCHMARK(BM_RayThroughput)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Whole frame: build, trace, shade, denoise, post, PNG encoding of all five buffers. Arguments:
-// samples per pixel, light samples per pixel (decoupled shading; = spp is brute force).
+// samples per pixel, light samples per pixel (decoupled shading; = spp is brute force),
+// adaptive anti-aliasing (1 = on, the default; 0 = every pixel takes every sample).
 void BM_PaperFrame(benchmark::State& state) {
   const int spp = static_cast<int>(state.range(0));
   const int light_samples = static_cast<int>(state.range(1));
+  const float adaptive_contrast =
+      state.range(2) ? render::RenderOptions{}.adaptive_contrast : -1.0f;
+  double refined = 0;
   double build = 0, trace = 0, shade = 0, denoise = 0, post = 0, encode = 0, render = 0;
   long long rays = 0;
   std::size_t triangles = 0;
@@ -177,7 +181,8 @@ void BM_PaperFrame(benchmark::State& state) {
   for (auto _ : state) {
     const auto start = std::chrono::steady_clock::now();
     render::Renderer r(cached_scene());
-    const render::FrameBuffers f = r.render({.spp = spp, .light_samples = light_samples});
+    const render::FrameBuffers f = r.render(
+        {.spp = spp, .light_samples = light_samples, .adaptive_contrast = adaptive_contrast});
     render +=
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     const auto t0 = std::chrono::steady_clock::now();
@@ -190,6 +195,7 @@ void BM_PaperFrame(benchmark::State& state) {
     denoise += r.timings().denoise_ms;
     post += r.timings().post_ms;
     rays += r.timings().rays;
+    refined += r.timings().refined_fraction;
   }
   const double n = static_cast<double>(state.iterations());
   state.counters["build_ms"] = build / n;
@@ -201,11 +207,13 @@ void BM_PaperFrame(benchmark::State& state) {
   state.counters["encode_ms"] = encode / n;
   state.counters["Mrays/s"] = static_cast<double>(rays) / ((trace + shade) / 1000.0) / 1e6;
   state.counters["triangles"] = static_cast<double>(triangles);
+  state.counters["refined"] = refined / n;  // fraction of pixels that took every sample
 }
 BENCHMARK(BM_PaperFrame)
-    ->Args({1, 1})
-    ->Args({4, 1})
-    ->Args({4, 4})
+    ->Args({1, 1, 1})
+    ->Args({4, 1, 1})
+    ->Args({4, 1, 0})
+    ->Args({4, 4, 0})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

@@ -24,6 +24,7 @@ struct RenderCommandOptions {
   int spp = 1;
   int light_samples = 1;
   int denoise_radius = render::RenderOptions{}.denoise_radius;
+  float adaptive_contrast = render::RenderOptions{}.adaptive_contrast;
   int threads = 0;
   bool no_post = false;
   std::optional<std::uint64_t> seed;
@@ -48,14 +49,17 @@ void run_render(const RenderCommandOptions& o) {
   const render::FrameBuffers frame = renderer->render({.spp = o.spp,
                                                        .light_samples = o.light_samples,
                                                        .denoise_radius = o.denoise_radius,
+                                                       .adaptive_contrast = o.adaptive_contrast,
                                                        .post = !o.no_post});
   const render::WriteTimings w = render::write_frame(frame, o.out);
   const auto& t = renderer->timings();
   spdlog::info(
-      "rendered {}x{} at {} spp ({} lit): build {:.1f} ms, trace {:.1f} ms, shade {:.1f} ms, "
-      "denoise {:.1f} ms, post {:.1f} ms, encode {:.1f} ms, write {:.1f} ms ({} rays) -> {}",
-      s.camera.width, s.camera.height, o.spp, o.light_samples, renderer->build_ms(), t.trace_ms,
-      t.shade_ms, t.denoise_ms, t.post_ms, w.encode_ms, w.write_ms, t.rays, o.out);
+      "rendered {}x{} at {} spp ({} lit, {:.1f} % of pixels took all): build {:.1f} ms, trace "
+      "{:.1f} ms, shade {:.1f} ms, denoise {:.1f} ms, post {:.1f} ms, encode {:.1f} ms, write "
+      "{:.1f} ms ({} rays) -> {}",
+      s.camera.width, s.camera.height, o.spp, o.light_samples, 100.0 * t.refined_fraction,
+      renderer->build_ms(), t.trace_ms, t.shade_ms, t.denoise_ms, t.post_ms, w.encode_ms,
+      w.write_ms, t.rays, o.out);
 }
 
 }  // namespace
@@ -74,6 +78,11 @@ void attach_render(CLI::App& parent) {
   cmd->add_option("--denoise", options->denoise_radius,
                   "Lighting smoothing radius in pixels (0 = off)")
       ->check(CLI::Range(0, 16));
+  cmd->add_option("--adaptive-contrast", options->adaptive_contrast,
+                  "Adaptive anti-aliasing: only pixels at an edge (another surface, a crease, a "
+                  "depth step, an albedo step above this) take every sample; negative = all "
+                  "pixels do")
+      ->check(CLI::Range(-1.0f, 1.0f));
   cmd->add_option("--threads", options->threads, "Worker threads (0 = all cores)")
       ->check(CLI::Range(0, 1024));
   cmd->add_option("--seed", options->seed, "Override the scene's sampling seed");

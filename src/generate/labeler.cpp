@@ -7,6 +7,8 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "scene/projector.h"
+
 namespace wheelpose::generate {
 namespace {
 
@@ -19,29 +21,7 @@ double round_to(double v, int digits) {
   return std::round(v * scale) / scale;
 }
 
-struct Projector {
-  Eigen::Matrix3f world_to_camera_rotation;
-  Vector3f camera_position;
-  float f, cx, cy;
-  int width, height;
-
-  explicit Projector(const scene::Camera& cam)
-      : world_to_camera_rotation(cam.orientation.normalized().toRotationMatrix().transpose()),
-        camera_position(cam.position),
-        f(0.5f * static_cast<float>(cam.height) / std::tan(0.5f * cam.effective_vfov())),
-        cx(0.5f * static_cast<float>(cam.width)),
-        cy(0.5f * static_cast<float>(cam.height)),
-        width(cam.width),
-        height(cam.height) {}
-
-  Vector3f to_camera(const Vector3f& world) const {
-    return world_to_camera_rotation * (world - camera_position);
-  }
-  // Pixel coordinates of a camera-space point in front of the camera (z < 0).
-  Eigen::Vector2f project(const Vector3f& c) const {
-    return Eigen::Vector2f(cx + f * c.x() / -c.z(), cy - f * c.y() / -c.z());
-  }
-};
+using scene::Projector;
 
 constexpr float kNear = 1e-3f;
 
@@ -100,8 +80,8 @@ nlohmann::ordered_json polygons(const cv::Mat& mask) {
       }
     } else {  // a one- or two-pixel sliver: its bounding square
       const cv::Rect r = cv::boundingRect(contour);
-      for (const cv::Point& p : {r.tl(), cv::Point(r.x + r.width, r.y), r.br(),
-                                 cv::Point(r.x, r.y + r.height)}) {
+      for (const cv::Point& p :
+           {r.tl(), cv::Point(r.x + r.width, r.y), r.br(), cv::Point(r.x, r.y + r.height)}) {
         poly.push_back(p.x);
         poly.push_back(p.y);
       }
@@ -126,10 +106,8 @@ FrameLabels label_frame(const BuiltFrame& frame, const render::FrameBuffers& buf
   const Projector proj(cam);
   FrameLabels labels;
   nlohmann::ordered_json camera;
-  camera["intrinsics"] = {{"fx", round_to(proj.f, 4)},
-                          {"fy", round_to(proj.f, 4)},
-                          {"cx", proj.cx},
-                          {"cy", proj.cy}};
+  camera["intrinsics"] = {
+      {"fx", round_to(proj.f, 4)}, {"fy", round_to(proj.f, 4)}, {"cx", proj.cx}, {"cy", proj.cy}};
   camera["vfov_deg"] = round_to(cam.effective_vfov() * 180.0 / M_PI, 5);
   const Eigen::Matrix4f extrinsics = camera_to_world(cam);
   nlohmann::ordered_json e = nlohmann::ordered_json::array();
@@ -158,7 +136,8 @@ FrameLabels label_frame(const BuiltFrame& frame, const render::FrameBuffers& buf
       Eigen::Vector2f px(0, 0);
       if (person.present[k] && c.z() < -kNear) {
         px = proj.project(c);
-        const int ix = static_cast<int>(std::floor(px.x())), iy = static_cast<int>(std::floor(px.y()));
+        const int ix = static_cast<int>(std::floor(px.x())),
+                  iy = static_cast<int>(std::floor(px.y()));
         if (ix >= 0 && iy >= 0 && ix < cam.width && iy < cam.height) {
           const float depth = buffers.depth.at<float>(iy, ix);
           v = depth > 0 && depth < -c.z() - person.tolerance[k] ? 1 : 2;

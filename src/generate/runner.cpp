@@ -198,6 +198,7 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
     render_options.spp = scenario.spp;
     render_options.light_samples = scenario.light_samples;
     render_options.denoise_radius = scenario.denoise_radius;
+    render_options.adaptive_contrast = static_cast<float>(scenario.adaptive_contrast);
     const render::FrameBuffers buffers = renderer.render(render_options);
     FrameLabels labels = label_frame(built, buffers, label_options);
     dropped += labels.dropped_people;

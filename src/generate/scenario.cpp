@@ -32,6 +32,7 @@ Scenario Scenario::from_config(const ConfigNode& root) {
     s.spp = static_cast<int>(image->get_int("spp", s.spp, 1, 4096));
     s.light_samples = static_cast<int>(image->get_int("light_samples", s.light_samples, 1, s.spp));
     s.denoise_radius = static_cast<int>(image->get_int("denoise_radius", s.denoise_radius, 0, 16));
+    s.adaptive_contrast = image->get_double("adaptive_contrast", s.adaptive_contrast, -1.0, 1.0);
     s.jpeg_quality = static_cast<int>(image->get_int("jpeg_quality", s.jpeg_quality, 1, 100));
     image->finish();
   }
@@ -95,6 +96,7 @@ nlohmann::ordered_json Scenario::to_json() const {
                 {"spp", spp},
                 {"light_samples", light_samples},
                 {"denoise_radius", denoise_radius},
+                {"adaptive_contrast", adaptive_contrast},
                 {"jpeg_quality", jpeg_quality}};
   j["labels"] = {{"keypoint_template", keypoint_template_name},
                  {"min_visible_pixels", min_visible_pixels},

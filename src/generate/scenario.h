@@ -2,7 +2,7 @@
 // A generation scenario: image settings, the label template and the configured randomizers, read
 // from one YAML file (configs/wheelpose-paper.yaml holds the defaults):
 //
-//   image: {width, height, spp, light_samples, denoise_radius, jpeg_quality}
+//   image: {width, height, spp, light_samples, denoise_radius, adaptive_contrast, jpeg_quality}
 //   labels: {keypoint_template, min_visible_pixels, segmentation, ground_truth_maps}
 //   randomizers: {<Name>: {enabled: bool, <parameter>: <value or distribution>, ...}}
 //
@@ -25,6 +25,8 @@ struct Scenario {
   int spp = 4;             // samples per pixel (anti-aliasing)
   int light_samples = 1;   // of those, how many sample the lights (render::RenderOptions)
   int denoise_radius = 3;  // lighting smoothing window in pixels (0 = off)
+  // Edge threshold of adaptive anti-aliasing (render::RenderOptions; < 0 = uniform sampling).
+  double adaptive_contrast = 0.05;
   int jpeg_quality = 95;
   std::string keypoint_template_name = "coco17";
   int min_visible_pixels = 50;

@@ -51,6 +51,8 @@ TEST(Scenario, ErrorsNameFileLineAndKey) {
   EXPECT_NE(message("image: {spp: 2, light_samples: 3}\n").find("light_samples"),
             std::string::npos);
   EXPECT_NE(message("image: {denoise_radius: 40}\n").find("denoise_radius"), std::string::npos);
+  EXPECT_NE(message("image: {adaptive_contrast: 2}\n").find("adaptive_contrast"),
+            std::string::npos);
   EXPECT_NE(message("labels: {keypoint_template: nothing.json}\n").find("keypoint_template"),
             std::string::npos);
   EXPECT_NE(message("colour: red\n").find("colour"), std::string::npos);

@@ -17,6 +17,7 @@
 
 #include "core/error.h"
 #include "core/random.h"
+#include "render/adaptive.h"
 #include "render/post.h"
 
 namespace wheelpose::render {
@@ -313,6 +314,7 @@ struct Renderer::PixelLighting {
   struct Reuse {
     float albedo_sum[3] = {0, 0, 0};  // over the samples that reuse the pixel's lighting
     float count = 0;                  // how many samples reuse it
+    float samples = 0;                // how many samples the pixel took
     float own[3] = {0, 0, 0};         // radiance summed over samples lit on their own
     // The sun's part of the pixel's lighting, not smoothed: a ray toward a 0.5° disc is nearly
     // noise-free, so sun shadows stay sharp (tracing it for every sample instead costs 25 %).
@@ -322,6 +324,9 @@ struct Renderer::PixelLighting {
   std::vector<PixelLight> light;     // point lights and sky, mean over the pixel's light samples
   std::vector<Reuse> reuse;
   std::vector<PixelLight> denoise_scratch;
+  std::vector<RandomStream> streams;              // per pixel, continued by later passes
+  std::vector<std::array<float, 3>> first_color;  // mean albedo or background of pass 1
+  std::vector<std::uint8_t> refine;               // pixels that take the remaining samples
 };
 
 FrameBuffers Renderer::render(const RenderOptions& options) {
@@ -349,19 +354,41 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
   lighting.guide.resize(pixels);
   lighting.light.resize(pixels);
   lighting.reuse.resize(pixels);
+  lighting.first_color.resize(pixels);
+  if (lighting.streams.size() != pixels) lighting.streams.assign(pixels, RandomStream(0, {}));
   const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
   std::atomic<long long> trace_ns{0}, shade_ns{0}, rays{0};
+  auto run_pass = [&](int sample_begin, int sample_end, const std::uint8_t* refine) {
+    tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y),
+                      [&](const tbb::blocked_range<int>& r) {
+                        double t = 0, s = 0;
+                        long long n = 0;
+                        for (int i = r.begin(); i < r.end(); ++i) {
+                          render_tile(i % tiles_x, i / tiles_x, sample_begin, sample_end, refine,
+                                      options, out, lighting, t, s, n);
+                        }
+                        trace_ns += static_cast<long long>(t);
+                        shade_ns += static_cast<long long>(s);
+                        rays += n;
+                      });
+  };
   const auto start = Clock::now();
-  tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y),
-                    [&](const tbb::blocked_range<int>& r) {
-                      double t = 0, s = 0;
-                      long long n = 0;
-                      for (int i = r.begin(); i < r.end(); ++i)
-                        render_tile(i % tiles_x, i / tiles_x, options, out, lighting, t, s, n);
-                      trace_ns += static_cast<long long>(t);
-                      shade_ns += static_cast<long long>(s);
-                      rays += n;
-                    });
+  // Adaptive: every pixel takes its light samples, then only edge pixels the rest.
+  const bool adaptive = options.adaptive_contrast >= 0 && scene_.camera.aperture_radius <= 0 &&
+                        options.light_samples < options.spp;
+  run_pass(0, adaptive ? options.light_samples : options.spp, nullptr);
+  timings_.refined_fraction = 1.0;
+  if (adaptive) {
+    mark_edges(w, h, lighting.guide, lighting.first_color, options.adaptive_contrast,
+               lighting.refine);
+    const scene::Projector projector(scene_.camera);
+    for (const Geometry& g : geometries_) {
+      if (g.present) mark_slivers(projector, g.vertices, g.triangles, lighting.refine);
+    }
+    const auto marked = std::count(lighting.refine.begin(), lighting.refine.end(), 1);
+    timings_.refined_fraction = static_cast<double>(marked) / static_cast<double>(pixels);
+    run_pass(options.light_samples, options.spp, lighting.refine.data());
+  }
   const double wall = ms_since(start);
   const double busy = std::max(1.0, static_cast<double>(trace_ns + shade_ns));
   timings_.trace_ms = wall * static_cast<double>(trace_ns) / busy;
@@ -372,8 +399,7 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
   denoise_lighting(w, h, lighting.guide, options.denoise_radius, lighting.light,
                    &lighting.denoise_scratch);
   // Radiance = (Σ albedo of the reusing samples ⊙ lighting + their specular + samples lit on
-  // their own) / spp.
-  const float inv = 1.0f / static_cast<float>(options.spp);
+  // their own) / samples taken.
   tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y < rows.end(); ++y) {
       auto* row = out.linear.ptr<cv::Vec3f>(y);
@@ -381,6 +407,7 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
         const std::size_t i = static_cast<std::size_t>(y) * w + x;
         const PixelLight& l = lighting.light[i];
         const PixelLighting::Reuse& r = lighting.reuse[i];
+        const float inv = 1.0f / r.samples;
         for (int k = 0; k < 3; ++k) {
           row[x][k] = (r.albedo_sum[k] * (l.diffuse[k] + r.sun.diffuse[k]) +
                        r.count * (l.specular[k] + r.sun.specular[k]) + r.own[k]) *
@@ -400,9 +427,10 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
   return out;
 }
 
-void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options, FrameBuffers& out,
-                           PixelLighting& lighting, double& trace_ns, double& shade_ns,
-                           long long& ray_count) const {
+void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_end,
+                           const std::uint8_t* refine, const RenderOptions& options,
+                           FrameBuffers& out, PixelLighting& lighting, double& trace_ns,
+                           double& shade_ns, long long& ray_count) const {
   const auto& cam = scene_.camera;
   const int w = cam.width, h = cam.height;
   const float tan_half = std::tan(0.5f * cam.effective_vfov());
@@ -445,17 +473,39 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
     x = tile_x * kTile + (p % 2) * 4 + k % 4;
     y = tile_y * kTile + (p / 2) * 2 + k / 4;
   };
-  // One stream per pixel, drawn from in sample order: what a pixel draws depends only on its
-  // own hits, so the image does not depend on tiles or threads.
-  std::vector<RandomStream> streams;
-  streams.reserve(kPixels);
-  const StreamKey pixel_key("pixel");
+  auto index_of = [&](int x, int y) { return static_cast<std::size_t>(y) * w + x; };
+  int active = 0;
   for (int p = 0; p < kPackets; ++p) {
     for (int k = 0; k < 8; ++k) {
       int x, y;
       pixel_of(p, k, x, y);
-      streams.emplace_back(scene_.seed, std::initializer_list<StreamKey>{
-                                            pixel_key, static_cast<std::uint64_t>(y) * w + x});
+      valid[p][k] = (x < w && y < h && (!refine || refine[index_of(x, y)])) ? -1 : 0;
+      active += valid[p][k] != 0;
+    }
+  }
+  if (active == 0) return;
+  // One stream per pixel, drawn from in sample order (and continued by later passes): what a
+  // pixel draws depends only on its own hits, so the image does not depend on tiles or threads.
+  std::array<RandomStream*, kPixels> streams{};
+  const StreamKey pixel_key("pixel");
+  for (int p = 0; p < kPackets; ++p) {
+    for (int k = 0; k < 8; ++k) {
+      if (!valid[p][k]) continue;
+      int x, y;
+      pixel_of(p, k, x, y);
+      const std::size_t i = index_of(x, y);
+      if (sample_begin == 0) lighting.streams[i] = RandomStream(scene_.seed, {pixel_key, i});
+      streams[p * 8 + k] = &lighting.streams[i];
+      if (sample_begin == 0) continue;
+      // A later pass: carry on from what the earlier samples left.
+      const PixelLighting::Reuse& r = lighting.reuse[i];
+      const LightingGuide& g = lighting.guide[i];
+      const int li = p * 8 + k;
+      own[li] = Eigen::Vector3f(r.own[0], r.own[1], r.own[2]);
+      albedo_sum[li] = Eigen::Vector3f(r.albedo_sum[0], r.albedo_sum[1], r.albedo_sum[2]);
+      reuse_count[li] = static_cast<int>(r.count);
+      surface0[li] = g.surface;
+      normal0[li] = Eigen::Vector3f(g.normal[0], g.normal[1], g.normal[2]);
     }
   }
   RTCIntersectContext coherent;
@@ -483,8 +533,10 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
 
   auto trace_primary = [&]() {
     const auto t0 = Clock::now();
-    for (int p = 0; p < kPackets; ++p)
-      rtcIntersect8(valid[p].data(), rtc_scene_, &coherent, &hits[p]);
+    for (int p = 0; p < kPackets; ++p) {
+      if (std::any_of(valid[p].begin(), valid[p].end(), [](int v) { return v != 0; }))
+        rtcIntersect8(valid[p].data(), rtc_scene_, &coherent, &hits[p]);
+    }
     trace_ns += std::chrono::duration<double, std::nano>(Clock::now() - t0).count();
   };
 
@@ -518,17 +570,7 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
     }
   };
 
-  for (int p = 0; p < kPackets; ++p) {
-    for (int k = 0; k < 8; ++k) {
-      int x, y;
-      pixel_of(p, k, x, y);
-      valid[p][k] = (x < w && y < h) ? -1 : 0;
-    }
-  }
-  int active = 0;
-  for (const auto& v : valid) active += static_cast<int>(std::count(v.begin(), v.end(), -1));
-
-  if (lens) {
+  if (lens && sample_begin == 0) {
     for (int p = 0; p < kPackets; ++p) {
       for (int k = 0; k < 8; ++k) {
         int x, y;
@@ -547,13 +589,14 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
   // A sample reuses its pixel's lighting when it lands on the same surface as sample 0 with a
   // normal within ≈ 18°; otherwise (silhouettes, creases) it is lit on its own.
   constexpr float kReuseNormalCos = 0.95f;
-  for (int s = 0; s < options.spp; ++s) {
+  for (int s = sample_begin; s < sample_end; ++s) {
     const auto shade_start = Clock::now();
     for (int p = 0; p < kPackets; ++p) {
       for (int k = 0; k < 8; ++k) {
+        if (!valid[p][k]) continue;
         int x, y;
         pixel_of(p, k, x, y);
-        RandomStream& rng = streams[p * 8 + k];
+        RandomStream& rng = *streams[p * 8 + k];
         // Sample 0 goes through the pixel centre; later ones are jittered over the pixel.
         const float jx = s == 0 ? 0.5f : static_cast<float>(rng.uniform01());
         const float jy = s == 0 ? 0.5f : static_cast<float>(rng.uniform01());
@@ -631,7 +674,7 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
           ++light_count[li];
         }
         into_pixel[k] = reuse;
-        RandomStream& rng = streams[li];
+        RandomStream& rng = *streams[li];
         const float eps = 1e-4f * (1.0f + pos.cwiseAbs().maxCoeff());
         const Eigen::Vector3f origin = pos + eps * ng;
         // Light × cos, split into the part the albedo scales and the specular part.
@@ -786,10 +829,22 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
       int x, y;
       pixel_of(p, k, x, y);
       const int li = p * 8 + k;
-      const std::size_t i = static_cast<std::size_t>(y) * w + x;
+      const std::size_t i = index_of(x, y);
       PixelLighting::Reuse& reuse = lighting.reuse[i];
       // Every field is written, background pixels included: the buffers come from a pool.
-      for (int c = 0; c < 3; ++c) reuse.own[c] = own[li][c];
+      for (int c = 0; c < 3; ++c) {
+        reuse.own[c] = own[li][c];
+        reuse.albedo_sum[c] = albedo_sum[li][c];
+      }
+      reuse.count = static_cast<float>(reuse_count[li]);
+      reuse.samples = static_cast<float>(sample_end);
+      if (sample_begin > 0) continue;  // the lighting and guide are pass 1's
+      // What edge detection compares: the mean albedo of the reusing samples, else the mean
+      // radiance of the others (background).
+      const Eigen::Vector3f color = reuse_count[li] > 0
+                                        ? Eigen::Vector3f(albedo_sum[li] / reuse_count[li])
+                                        : Eigen::Vector3f(own[li] / sample_end);
+      lighting.first_color[i] = {color.x(), color.y(), color.z()};
       const float inv = 1.0f / static_cast<float>(std::max(1, light_count[li]));
       LightingGuide& guide = lighting.guide[i];
       PixelLight& light = lighting.light[i];
@@ -801,9 +856,7 @@ void Renderer::render_tile(int tile_x, int tile_y, const RenderOptions& options,
         light.specular[c] = specular[li][c] * inv;
         reuse.sun.diffuse[c] = sun_diffuse[li][c] * inv;
         reuse.sun.specular[c] = sun_specular[li][c] * inv;
-        reuse.albedo_sum[c] = albedo_sum[li][c];
       }
-      reuse.count = static_cast<float>(reuse_count[li]);
     }
   }
 }

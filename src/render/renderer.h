@@ -31,11 +31,21 @@ namespace wheelpose::render {
 // albedo (like MSAA), and samples on another surface (silhouettes, creases) are lit on their
 // own. The per-pixel lighting is then smoothed over neighbouring pixels of the same surface
 // (render/denoise.h). light_samples = spp with denoise_radius = 0 is brute-force sampling.
+//
+// Adaptive anti-aliasing: every pixel first takes its `light_samples` samples; only pixels
+// whose 3×3 neighbourhood shows an edge in those first samples (another surface, a crease, a
+// depth step, an albedo or background contrast above `adaptive_contrast`) take the rest. A
+// pixel so refined gets exactly the value a uniform render gives it, the others exactly the
+// value of a render with spp = light_samples. Off with a lens (defocus blur needs every
+// sample) and when adaptive_contrast < 0.
 struct RenderOptions {
   int spp = 1;             // samples per pixel (anti-aliasing, depth of field)
   int light_samples = 1;   // of those, how many sample the lights (1 … spp)
   int denoise_radius = 3;  // lighting smoothing window (pixels; 0 = off)
-  bool post = true;        // apply Scene::post; false gives the plain sRGB encoding
+  // Linear albedo (or background radiance) step between neighbouring pixels above which they
+  // take every sample; < 0 = uniform sampling, every pixel takes spp samples.
+  float adaptive_contrast = 0.05f;  // scenario image.adaptive_contrast
+  bool post = true;                 // apply Scene::post; false gives the plain sRGB encoding
 };
 
 // Ground-truth buffers come from one pinhole ray through each pixel centre, so labels are
@@ -56,7 +66,8 @@ struct RenderTimings {
   double shade_ms = 0;    // shading incl. shadow and environment rays
   double denoise_ms = 0;  // lighting smoothing and compositing
   double post_ms = 0;
-  long long rays = 0;  // all rays traced (primary + shadow + environment + ground truth)
+  double refined_fraction = 1;  // of pixels that took every sample (adaptive anti-aliasing)
+  long long rays = 0;           // all rays traced (primary + shadow + environment + ground truth)
 };
 
 struct RayQuery {
@@ -93,7 +104,10 @@ class Renderer {
   struct PixelLighting;  // per-frame decoupled-shading buffers (private to renderer.cpp)
 
  private:
-  void render_tile(int tile_x, int tile_y, const RenderOptions& options, FrameBuffers& out,
+  // Samples [sample_begin, sample_end) of one 8×8 tile. sample_begin = 0 starts every pixel;
+  // later passes continue only the pixels whose `refine` entry is set.
+  void render_tile(int tile_x, int tile_y, int sample_begin, int sample_end,
+                   const std::uint8_t* refine, const RenderOptions& options, FrameBuffers& out,
                    PixelLighting& lighting, double& trace_ns, double& shade_ns,
                    long long& rays) const;
   Eigen::Vector3f background(float px, float py, const Eigen::Vector3f& dir) const;

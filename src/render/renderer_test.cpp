@@ -263,6 +263,70 @@ TEST(Renderer, AllLightSamplesWithoutDenoisingIsBruteForceOnPlainSurfaces) {
   EXPECT_NEAR(cv::mean(fewer)[1], cv::mean(a)[1], 0.03 * cv::mean(a)[1]);
 }
 
+// Adaptive anti-aliasing gives every pixel either exactly what uniform sampling gives it (edge
+// pixels) or exactly what its first sample gives it (on plain surfaces the two often agree);
+// every pixel next to another instance is refined.
+TEST(Renderer, AdaptivePixelsTakeTheUniformValueOrTheFirstSamplesValue) {
+  for (const scene::Scene& s : {testing::lit_sphere(), testing::textured_plane()}) {
+    Renderer r(s);
+    const FrameBuffers adaptive = r.render({.spp = 4, .post = false});
+    const double refined = r.timings().refined_fraction;
+    const FrameBuffers uniform = r.render({.spp = 4, .adaptive_contrast = -1, .post = false});
+    EXPECT_EQ(r.timings().refined_fraction, 1.0);
+    const FrameBuffers first = r.render({.spp = 1, .post = false});
+    EXPECT_GT(refined, 0.02);
+    EXPECT_LT(refined, 0.8);
+    int as_uniform = 0;
+    for (int y = 0; y < s.camera.height; ++y) {
+      for (int x = 0; x < s.camera.width; ++x) {
+        const cv::Vec3f a = adaptive.linear.at<cv::Vec3f>(y, x);
+        const bool same_as_uniform = a == uniform.linear.at<cv::Vec3f>(y, x);
+        const bool same_as_first = a == first.linear.at<cv::Vec3f>(y, x);
+        ASSERT_TRUE(same_as_uniform || same_as_first) << x << "," << y;
+        as_uniform += same_as_uniform && !same_as_first;
+        const auto id = adaptive.instance.at<std::uint16_t>(y, x);
+        bool at_edge = false;
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int qx = x + dx, qy = y + dy;
+            if (qx >= 0 && qy >= 0 && qx < s.camera.width && qy < s.camera.height)
+              at_edge |= adaptive.instance.at<std::uint16_t>(qy, qx) != id;
+          }
+        }
+        if (at_edge) {
+          EXPECT_TRUE(same_as_uniform) << x << "," << y;
+        }
+      }
+    }
+    EXPECT_GT(as_uniform, 0);  // edge pixels that more samples changed
+  }
+}
+
+// A bar 0.3 px tall lying between two rows of pixel centres: no first sample sees it, so only
+// the sliver test can send its pixels the samples that find it.
+TEST(Renderer, AdaptiveFindsABarThinnerThanAPixelBetweenPixelCentres) {
+  scene::Scene s = wall_scene(4.0f);
+  s.materials.push_back(material({0, 0, 0}));
+  const float distance = 2.0f;
+  const float tan_half = std::tan(0.5f * s.camera.effective_vfov());
+  auto world_y = [&](float film_y) {
+    return (1.0f - 2.0f * film_y / static_cast<float>(s.camera.height)) * tan_half * distance;
+  };
+  const float top = world_y(20.05f), bottom = world_y(20.35f);  // centres are at 19.5 and 20.5
+  s.meshes.push_back(scene::make_box({1.0f, 0.5f * (top - bottom), 0.01f}, 1));
+  s.instances.push_back(place(1, 1, {0, 0.5f * (top + bottom), -distance}, 9, 4));
+  s.environment = scene::Environment{};
+  Renderer r(s);
+  const FrameBuffers first = r.render({.spp = 1, .post = false});
+  EXPECT_EQ(cv::countNonZero(first.instance == 9), 0);  // no pixel centre hits the bar
+  const FrameBuffers adaptive = r.render({.spp = 8, .post = false});
+  const FrameBuffers uniform = r.render({.spp = 8, .adaptive_contrast = -1, .post = false});
+  const cv::Rect row(10, 20, 44, 1);
+  EXPECT_EQ(cv::norm(adaptive.linear(row), uniform.linear(row), cv::NORM_INF), 0.0);
+  // The bar darkens the row: samples found it.
+  EXPECT_LT(cv::mean(adaptive.linear(row))[0], 0.9 * cv::mean(first.linear(row))[0]);
+}
+
 TEST(Renderer, RejectsBadSamplingOptions) {
   Renderer r(wall_scene(2.0f));
   EXPECT_THROW(r.render({.spp = 0}), Error);
