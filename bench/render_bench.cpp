@@ -12,6 +12,7 @@
 #include <string>
 
 #include "core/random.h"
+#include "render/denoise.h"
 #include "render/frame_io.h"
 #include "render/renderer.h"
 #include "scene/primitives.h"
@@ -216,6 +217,43 @@ BENCHMARK(BM_PaperFrame)
     ->Args({4, 4, 0})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+// The lighting smoothing alone on a 1280×720 frame: four surfaces (quadrants) at two depths
+// and two slants, noisy light.
+void BM_Denoise(benchmark::State& state) {
+  const int w = 1280, h = 720, radius = static_cast<int>(state.range(0));
+  std::vector<render::LightingGuide> guide(static_cast<std::size_t>(w) * h);
+  std::vector<render::PixelLight> noisy(guide.size());
+  RandomStream rng(3, {"bench", "denoise"});
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * w + x;
+      const int quadrant = (x >= w / 2) + 2 * (y >= h / 2);
+      const float slant = quadrant % 2 ? 0.5f : 0.0f;
+      render::LightingGuide& g = guide[i];
+      g.surface = quadrant;
+      g.normal[0] = slant;
+      g.normal[2] = std::sqrt(1 - slant * slant);
+      g.position[0] = 0.005f * x;
+      g.position[1] = -0.005f * y;
+      g.position[2] = -2.0f - quadrant - slant * 0.005f * x;
+      for (int c = 0; c < 3; ++c) {
+        noisy[i].diffuse[c] = static_cast<float>(rng.uniform(0, 2));
+        noisy[i].specular[c] = static_cast<float>(rng.uniform(0, 0.1));
+      }
+    }
+  }
+  render::DenoiseScratch scratch;
+  std::vector<render::PixelLight> light;
+  for (auto _ : state) {
+    state.PauseTiming();
+    light = noisy;
+    state.ResumeTiming();
+    render::denoise_lighting(w, h, guide, radius, light, &scratch);
+    benchmark::DoNotOptimize(light.data());
+  }
+}
+BENCHMARK(BM_Denoise)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

@@ -1,6 +1,7 @@
 #include "render/adaptive.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
@@ -17,21 +18,31 @@ namespace {
 constexpr float kMinNormalCos = 0.95f;
 constexpr float kMaxPlaneSine = 0.5f;  // sin 30°
 
-bool differs(const LightingGuide& c, const std::array<float, 3>& c_color, const LightingGuide& q,
-             const std::array<float, 3>& q_color, float contrast) {
-  if (q.surface != c.surface) return true;
-  for (int k = 0; k < 3; ++k) {
-    if (std::abs(q_color[k] - c_color[k]) > contrast) return true;
-  }
-  if (c.surface < 0) return false;  // background: colour only
-  const float agree =
-      c.normal[0] * q.normal[0] + c.normal[1] * q.normal[1] + c.normal[2] * q.normal[2];
-  if (agree < kMinNormalCos) return true;
-  const float sx = q.position[0] - c.position[0], sy = q.position[1] - c.position[1],
-              sz = q.position[2] - c.position[2];
+// q lies off c's tangent plane by more than kMaxPlaneSine (compared squared, no root).
+bool off_plane(const LightingGuide& c, float sx, float sy, float sz) {
   const float off = c.normal[0] * sx + c.normal[1] * sy + c.normal[2] * sz;
   return off * off > kMaxPlaneSine * kMaxPlaneSine * (sx * sx + sy * sy + sz * sz);
 }
+
+// Whether two neighbouring pixels are on different sides of an edge (symmetric).
+bool edge_between(const LightingGuide& a, const std::array<float, 3>& a_color,
+                  const LightingGuide& b, const std::array<float, 3>& b_color, float contrast) {
+  if (a.surface != b.surface) return true;
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(a_color[k] - b_color[k]) > contrast) return true;
+  }
+  if (a.surface < 0) return false;  // background: colour only
+  const float agree =
+      a.normal[0] * b.normal[0] + a.normal[1] * b.normal[1] + a.normal[2] * b.normal[2];
+  if (agree < kMinNormalCos) return true;
+  const float sx = b.position[0] - a.position[0], sy = b.position[1] - a.position[1],
+              sz = b.position[2] - a.position[2];
+  return off_plane(a, sx, sy, sz) || off_plane(b, sx, sy, sz);
+}
+
+// The four neighbours after a pixel in reading order; with the four before it (whose own
+// forward pairs point back at it) they make the 8-neighbourhood.
+constexpr int kForward[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
 
 }  // namespace
 
@@ -40,6 +51,24 @@ long long mark_edges(int width, int height, const std::vector<LightingGuide>& gu
                      std::vector<std::uint8_t>& refine) {
   const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   WHEELPOSE_CHECK(width >= 0 && height >= 0 && guide.size() == n && color.size() == n);
+  // Pass 1: bit d of edges[i] = an edge between pixel i and its forward neighbour d. Each pair
+  // is tested once; pass 2 gathers both directions, so no pixel is written by two threads.
+  std::vector<std::uint8_t> edges(n, 0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y < rows.end(); ++y) {
+      for (int x = 0; x < width; ++x) {
+        const std::size_t i = static_cast<std::size_t>(y) * width + x;
+        std::uint8_t bits = 0;
+        for (int d = 0; d < 4; ++d) {
+          const int qx = x + kForward[d][0], qy = y + kForward[d][1];
+          if (qx < 0 || qx >= width || qy >= height) continue;
+          const std::size_t j = static_cast<std::size_t>(qy) * width + qx;
+          if (edge_between(guide[i], color[i], guide[j], color[j], contrast)) bits |= 1u << d;
+        }
+        edges[i] = bits;
+      }
+    }
+  });
   refine.resize(n);
   return tbb::parallel_reduce(
       tbb::blocked_range<int>(0, height), 0LL,
@@ -47,18 +76,12 @@ long long mark_edges(int width, int height, const std::vector<LightingGuide>& gu
         for (int y = rows.begin(); y < rows.end(); ++y) {
           for (int x = 0; x < width; ++x) {
             const std::size_t i = static_cast<std::size_t>(y) * width + x;
-            bool edge = false;
-            for (int dy = -1; dy <= 1 && !edge; ++dy) {
-              const int qy = y + dy;
-              if (qy < 0 || qy >= height) continue;
-              for (int dx = -1; dx <= 1 && !edge; ++dx) {
-                const int qx = x + dx;
-                if ((dx == 0 && dy == 0) || qx < 0 || qx >= width) continue;
-                const std::size_t j = static_cast<std::size_t>(qy) * width + qx;
-                // Tested from both sides: the tangent-plane test is not symmetric.
-                edge = differs(guide[i], color[i], guide[j], color[j], contrast) ||
-                       differs(guide[j], color[j], guide[i], color[i], contrast);
-              }
+            bool edge = edges[i] != 0;
+            // Pairs of which this pixel is the forward end.
+            for (int d = 0; d < 4 && !edge; ++d) {
+              const int px = x - kForward[d][0], py = y - kForward[d][1];
+              if (px < 0 || px >= width || py < 0) continue;
+              edge = (edges[static_cast<std::size_t>(py) * width + px] >> d) & 1u;
             }
             refine[i] = edge ? 1 : 0;
             marked += edge;

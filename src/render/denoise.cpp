@@ -20,57 +20,96 @@ constexpr float kMinNormalCos = 0.9f;
 constexpr float kPlaneSine = 0.15f;
 constexpr float kMaxPlaneSine = 0.5f;
 
-// Weight of neighbour q for centre c (0 when they must not mix), before the spatial kernel.
-float edge_weight(const LightingGuide& c, const LightingGuide& q) {
-  if (q.surface != c.surface) return 0.0f;
-  const float agree =
-      c.normal[0] * q.normal[0] + c.normal[1] * q.normal[1] + c.normal[2] * q.normal[2];
-  if (agree < kMinNormalCos) return 0.0f;
-  const float sx = q.position[0] - c.position[0], sy = q.position[1] - c.position[1],
-              sz = q.position[2] - c.position[2];
-  const float len2 = sx * sx + sy * sy + sz * sz;
-  const float off = c.normal[0] * sx + c.normal[1] * sy + c.normal[2] * sz;
-  // Compared squared, without a square root.
-  if (off * off > kMaxPlaneSine * kMaxPlaneSine * len2) return 0.0f;
-  const float t = len2 > 0 ? off * off / (len2 * (kPlaneSine * kPlaneSine)) : 0.0f;
-  return agree * agree / (1.0f + t);
+// Pointers to the planes of one row of pixels.
+struct RowPlanes {
+  const int* surface;
+  const float* geometry[6];  // normal x, y, z, position x, y, z
+  const float* light[6];
+};
+
+RowPlanes row_planes(const DenoiseScratch& g, const std::vector<float> (&light)[6],
+                     std::ptrdiff_t first) {
+  RowPlanes r{g.surface.data() + first, {}, {}};
+  for (int c = 0; c < 6; ++c) {
+    r.geometry[c] = g.geometry[c].data() + first;
+    r.light[c] = light[c].data() + first;
+  }
+  return r;
 }
 
-// One 1-D pass along rows (along_x) or columns from `in` into `out`.
-void filter_pass(const std::vector<LightingGuide>& guide, const std::vector<float>& kernel, int w,
-                 int h, bool along_x, const std::vector<PixelLight>& in,
-                 std::vector<PixelLight>& out) {
+// Adds, for pixels [x0, x1) of a row, the weighted light of the neighbour at the same index of
+// `q` (the row's planes shifted by the tap offset) into the sums. Restrict parameters and no
+// branches let the compiler vectorise the loop.
+void accumulate_tap(
+    int x0, int x1, float kernel_weight, const int* __restrict c_surface,
+    const float* __restrict nx, const float* __restrict ny, const float* __restrict nz,
+    const float* __restrict px, const float* __restrict py, const float* __restrict pz,
+    const int* __restrict q_surface, const float* __restrict q_nx, const float* __restrict q_ny,
+    const float* __restrict q_nz, const float* __restrict q_px, const float* __restrict q_py,
+    const float* __restrict q_pz, const float* __restrict l0, const float* __restrict l1,
+    const float* __restrict l2, const float* __restrict l3, const float* __restrict l4,
+    const float* __restrict l5, float* __restrict w_sum, float* __restrict s0, float* __restrict s1,
+    float* __restrict s2, float* __restrict s3, float* __restrict s4, float* __restrict s5) {
+  constexpr float kPlane2 = kPlaneSine * kPlaneSine, kMaxPlane2 = kMaxPlaneSine * kMaxPlaneSine;
+  constexpr float kTiny = 1e-30f;  // keeps 0 / 0 (coincident points) at a ratio of 1
+  for (int x = x0; x < x1; ++x) {
+    const float agree = nx[x] * q_nx[x] + ny[x] * q_ny[x] + nz[x] * q_nz[x];
+    const float sx = q_px[x] - px[x], sy = q_py[x] - py[x], sz = q_pz[x] - pz[x];
+    const float len2 = sx * sx + sy * sy + sz * sz;
+    const float off = nx[x] * sx + ny[x] * sy + nz[x] * sz;
+    const float off2 = off * off;
+    // 0 when they must not mix: another surface, a crease, or off the tangent plane.
+    const int mixes = static_cast<int>(q_surface[x] == c_surface[x]) &
+                      static_cast<int>(agree >= kMinNormalCos) &
+                      static_cast<int>(off2 <= kMaxPlane2 * len2);
+    // agree² / (1 + off² / (len² · kPlaneSine²)), written without a branch.
+    const float weight = static_cast<float>(mixes) * kernel_weight * agree * agree *
+                         (len2 * kPlane2 + kTiny) / (len2 * kPlane2 + off2 + kTiny);
+    w_sum[x] += weight;
+    s0[x] += weight * l0[x];
+    s1[x] += weight * l1[x];
+    s2[x] += weight * l2[x];
+    s3[x] += weight * l3[x];
+    s4[x] += weight * l4[x];
+    s5[x] += weight * l5[x];
+  }
+}
+
+// One 1-D pass over planes `in` into `out`: along rows (along_x) or columns.
+void filter_pass(const DenoiseScratch& g, const std::vector<float>& kernel, int w, int h,
+                 bool along_x, const std::vector<float> (&in)[6], std::vector<float> (&out)[6]) {
   const int radius = static_cast<int>(kernel.size()) - 1;
-  const std::ptrdiff_t stride = along_x ? 1 : w;
   tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+    std::vector<float> sums(7 * static_cast<std::size_t>(w));
+    float* s[7];
+    for (int c = 0; c < 7; ++c) s[c] = sums.data() + c * static_cast<std::size_t>(w);
     for (int y = rows.begin(); y < rows.end(); ++y) {
+      std::fill(sums.begin(), sums.end(), 0.0f);
+      const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(y) * w;
+      const RowPlanes c = row_planes(g, in, row);
+      for (int d = -radius; d <= radius; ++d) {
+        // Pixels x of this row whose neighbour at offset d exists.
+        int x0 = 0, x1 = w;
+        std::ptrdiff_t step = d;
+        if (along_x) {
+          x0 = std::max(0, -d);
+          x1 = std::min(w, w - d);
+        } else {
+          if (y + d < 0 || y + d >= h) continue;
+          step = static_cast<std::ptrdiff_t>(d) * w;
+        }
+        const RowPlanes q = row_planes(g, in, row + step);
+        accumulate_tap(x0, x1, kernel[d < 0 ? -d : d], c.surface, c.geometry[0], c.geometry[1],
+                       c.geometry[2], c.geometry[3], c.geometry[4], c.geometry[5], q.surface,
+                       q.geometry[0], q.geometry[1], q.geometry[2], q.geometry[3], q.geometry[4],
+                       q.geometry[5], q.light[0], q.light[1], q.light[2], q.light[3], q.light[4],
+                       q.light[5], s[6], s[0], s[1], s[2], s[3], s[4], s[5]);
+      }
       for (int x = 0; x < w; ++x) {
-        const std::ptrdiff_t i = static_cast<std::ptrdiff_t>(y) * w + x;
-        const LightingGuide& c = guide[i];
-        if (c.surface < 0) {
-          out[i] = in[i];
-          continue;
-        }
-        const int at = along_x ? x : y, size = along_x ? w : h;
-        float sum[6] = {0, 0, 0, 0, 0, 0};
-        float w_sum = 0;
-        for (int d = -std::min(radius, at); d <= std::min(radius, size - 1 - at); ++d) {
-          const std::ptrdiff_t j = i + d * stride;
-          const float weight = kernel[d < 0 ? -d : d] * edge_weight(c, guide[j]);
-          if (weight <= 0) continue;
-          const PixelLight& q = in[j];
-          for (int k = 0; k < 3; ++k) {
-            sum[k] += weight * q.diffuse[k];
-            sum[3 + k] += weight * q.specular[k];
-          }
-          w_sum += weight;
-        }
-        // The centre always counts (weight 1), so w_sum > 0.
-        const float inv = 1.0f / w_sum;
-        for (int k = 0; k < 3; ++k) {
-          out[i].diffuse[k] = sum[k] * inv;
-          out[i].specular[k] = sum[3 + k] * inv;
-        }
+        // The centre always counts (weight ≈ 1), so a lit pixel's sum of weights is > 0.
+        const bool lit = c.surface[x] >= 0;
+        const float inv = lit ? 1.0f / s[6][x] : 0.0f;
+        for (int k = 0; k < 6; ++k) out[k][row + x] = lit ? s[k][x] * inv : c.light[k][x];
       }
     }
   });
@@ -79,7 +118,7 @@ void filter_pass(const std::vector<LightingGuide>& guide, const std::vector<floa
 }  // namespace
 
 void denoise_lighting(int width, int height, const std::vector<LightingGuide>& guide, int radius,
-                      std::vector<PixelLight>& light, std::vector<PixelLight>* scratch) {
+                      std::vector<PixelLight>& light, DenoiseScratch* scratch) {
   WHEELPOSE_CHECK(radius >= 0 && width >= 0 && height >= 0);
   const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   WHEELPOSE_CHECK(guide.size() == n && light.size() == n);
@@ -88,11 +127,38 @@ void denoise_lighting(int width, int height, const std::vector<LightingGuide>& g
   const float sigma = 0.5f * static_cast<float>(radius);
   for (int d = 0; d <= radius; ++d)
     kernel[d] = std::exp(-static_cast<float>(d * d) / (2 * sigma * sigma));
-  std::vector<PixelLight> local;
-  std::vector<PixelLight>& rows_done = scratch ? *scratch : local;
-  rows_done.resize(n);  // every entry is written by the row pass
-  filter_pass(guide, kernel, width, height, true, light, rows_done);
-  filter_pass(guide, kernel, width, height, false, rows_done, light);
+  DenoiseScratch local;
+  DenoiseScratch& s = scratch ? *scratch : local;
+  s.surface.resize(n);
+  for (int c = 0; c < 6; ++c) {
+    s.geometry[c].resize(n);
+    s.light[c].resize(n);
+    s.rows_done[c].resize(n);
+  }
+  // Planes in, planes out: every entry is written.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                        s.surface[i] = guide[i].surface;
+                        for (int c = 0; c < 3; ++c) {
+                          s.geometry[c][i] = guide[i].normal[c];
+                          s.geometry[3 + c][i] = guide[i].position[c];
+                          s.light[c][i] = light[i].diffuse[c];
+                          s.light[3 + c][i] = light[i].specular[c];
+                        }
+                      }
+                    });
+  filter_pass(s, kernel, width, height, true, s.light, s.rows_done);
+  filter_pass(s, kernel, width, height, false, s.rows_done, s.light);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                        for (int c = 0; c < 3; ++c) {
+                          light[i].diffuse[c] = s.light[c][i];
+                          light[i].specular[c] = s.light[3 + c][i];
+                        }
+                      }
+                    });
 }
 
 }  // namespace wheelpose::render

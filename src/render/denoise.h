@@ -21,14 +21,21 @@ struct PixelLight {
   float specular[3] = {0, 0, 0};
 };
 
+// Working memory of denoise_lighting, kept by callers that denoise every frame.
+struct DenoiseScratch {
+  std::vector<int> surface;
+  std::vector<float> geometry[6];  // normal x, y, z, position x, y, z (one plane per component)
+  std::vector<float> light[6], rows_done[6];
+};
+
 // Replaces each lit pixel's light by a weighted mean over its (2·radius + 1)² window, counting
 // only pixels of the same surface whose normal agrees and which lie on the pixel's tangent plane
 // (so an arm in front of a torso of the same mesh stays apart). Weights: a Gaussian of σ =
 // radius / 2 × normal agreement × tangent-plane distance, applied separably (a row pass, then a
 // column pass: 2·(2·radius + 1) taps instead of the square). Each output pixel is a pure
-// function of its window, so the result does not depend on the thread count.
-// `scratch`, when given, holds the intermediate pass (reused by callers that denoise per frame).
+// function of its window, so the result does not depend on the thread count. The passes run on
+// one plane per component, branch-free, so the compiler vectorises them.
 void denoise_lighting(int width, int height, const std::vector<LightingGuide>& guide, int radius,
-                      std::vector<PixelLight>& light, std::vector<PixelLight>* scratch = nullptr);
+                      std::vector<PixelLight>& light, DenoiseScratch* scratch = nullptr);
 
 }  // namespace wheelpose::render

@@ -44,12 +44,14 @@ double ms_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-// Orthonormal basis with w as its third axis.
+// Orthonormal basis with the unit vector w as its third axis, without a square root or a
+// normalisation (Duff et al. 2017, "Building an Orthonormal Basis, Revisited").
 void basis(const Eigen::Vector3f& w, Eigen::Vector3f& u, Eigen::Vector3f& v) {
-  const Eigen::Vector3f a =
-      std::abs(w.x()) > 0.9f ? Eigen::Vector3f(0, 1, 0) : Eigen::Vector3f(1, 0, 0);
-  u = a.cross(w).normalized();
-  v = w.cross(u);
+  const float sign = std::copysign(1.0f, w.z());
+  const float a = -1.0f / (sign + w.z());
+  const float b = w.x() * w.y() * a;
+  u = Eigen::Vector3f(1.0f + sign * w.x() * w.x() * a, sign * b, -sign * w.x());
+  v = Eigen::Vector3f(b, sign + w.y() * w.y() * a, -w.y());
 }
 
 void set_ray(RTCRay8& r, int k, const Eigen::Vector3f& o, const Eigen::Vector3f& d, float tfar) {
@@ -323,7 +325,7 @@ struct Renderer::PixelLighting {
   std::vector<LightingGuide> guide;  // surface, normal and position of sample 0
   std::vector<PixelLight> light;     // point lights and sky, mean over the pixel's light samples
   std::vector<Reuse> reuse;
-  std::vector<PixelLight> denoise_scratch;
+  DenoiseScratch denoise_scratch;
   std::vector<RandomStream> streams;              // per pixel, continued by later passes
   std::vector<std::array<float, 3>> first_color;  // mean albedo or background of pass 1
   std::vector<std::uint8_t> refine;               // pixels that take the remaining samples
@@ -693,8 +695,9 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
           const float ct = 1.0f - static_cast<float>(rng.uniform01()) * (1.0f - sun_cos_max);
           const float st = std::sqrt(std::max(0.0f, 1 - ct * ct)),
                       ph = 2 * kPi * static_cast<float>(rng.uniform01());
+          // Unit by construction (orthonormal basis, ct² + st² = 1): no normalisation.
           const Eigen::Vector3f l =
-              (ct * sun_dir + st * std::cos(ph) * sun_u + st * std::sin(ph) * sun_v).normalized();
+              ct * sun_dir + st * std::cos(ph) * sun_u + st * std::sin(ph) * sun_v;
           const float c = n.dot(l);
           if (c > 0 && ng.dot(l) > 0) {
             set_ray(shadow[0], k, origin, l, kInf);
@@ -767,9 +770,8 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
             Eigen::Vector3f bu, bv;
             basis(n, bu, bv);
             const float rad = std::sqrt(r1), ph = 2 * kPi * r2;
-            l = (rad * std::cos(ph) * bu + rad * std::sin(ph) * bv +
-                 std::sqrt(std::max(0.0f, 1 - r1)) * n)
-                    .normalized();
+            l = rad * std::cos(ph) * bu + rad * std::sin(ph) * bv +
+                std::sqrt(std::max(0.0f, 1 - r1)) * n;  // unit by construction
           }
           const float c = n.dot(l);
           const float pdf = 0.5f * environment_pdf(l) + 0.5f * std::max(0.0f, c) / kPi;
@@ -786,9 +788,8 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
           Eigen::Vector3f bu, bv;
           basis(n, bu, bv);
           const float rad = std::sqrt(r1), ph = 2 * kPi * r2;
-          const Eigen::Vector3f l = (rad * std::cos(ph) * bu + rad * std::sin(ph) * bv +
-                                     std::sqrt(std::max(0.0f, 1 - r1)) * n)
-                                        .normalized();
+          const Eigen::Vector3f l = rad * std::cos(ph) * bu + rad * std::sin(ph) * bv +
+                                    std::sqrt(std::max(0.0f, 1 - r1)) * n;  // unit
           if (ng.dot(l) > 0) {
             set_ray(shadow[2], k, origin, l, kInf);
             shadow_valid[2][k] = -1;

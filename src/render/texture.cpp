@@ -143,8 +143,8 @@ float procedural_pattern(const scene::Texture& t, float u, float v, float footpr
     case TextureKind::kWood: {
       // Growth rings around an axis near the texture's corner, warped by noise.
       const float r = std::sqrt((u + 0.3f) * (u + 0.3f) + 0.1f * (v * v));
-      const float w = r + 0.3f * t.turbulence * fbm(t.seed, u * 2, v * 2, footprint * 2);
-      return std::pow(fract(w), 3.0f);
+      const float ring = fract(r + 0.3f * t.turbulence * fbm(t.seed, u * 2, v * 2, footprint * 2));
+      return ring * ring * ring;
     }
     case TextureKind::kMarble:
       return 0.5f + 0.5f * std::sin(kTwoPi * 0.5f * (u + v) +
