@@ -40,7 +40,8 @@ TEST(Person, SeatContactBelowOneCentimetreForEveryChairType) {
       EXPECT_LT(pelvis_above_seat, 0.2f);
       // Seat depth from the thigh: most of it, ending before the calves (a bug once left
       // 6 cm seats because the buttocks counted as calves).
-      const double thigh = (person.joints[motion::kLeftKnee] - person.joints[motion::kLeftHip]).norm();
+      const double thigh =
+          (person.joints[motion::kLeftKnee] - person.joints[motion::kLeftHip]).norm();
       const double seat_depth = person.chair.dimensions["seat_depth"].get<double>();
       EXPECT_GT(seat_depth, 0.6 * thigh) << wheelchair_type_name(type) << " seed " << seed;
       EXPECT_LT(seat_depth, 0.95 * thigh) << wheelchair_type_name(type) << " seed " << seed;
@@ -125,6 +126,22 @@ TEST(Wheelchair, EmptyChairStandsOnTheFloor) {
   EXPECT_NEAR(lowest, c.ground_y, 3e-3f);  // polygonal tyre ring
 }
 
+TEST(Wheelchair, ThinTubesGetFewerSidesAndStayRound) {
+  EXPECT_EQ(cylinder_segments(0.004f), 6);  // a spoke
+  EXPECT_EQ(cylinder_segments(0.011f), 14);
+  EXPECT_EQ(cylinder_segments(0.05f), 24);
+  for (const float radius : {0.004f, 0.05f}) {
+    const Primitive spoke = make_tube("spoke", {0, 0, 0}, {0, 0.3f, 0}, radius, 3);
+    const TriMesh m = primitive_mesh(std::vector<Primitive>{spoke}, spoke.material);
+    // Per side: a quad (2 triangles) and a triangle in each end cap.
+    EXPECT_EQ(m.triangles.size(), 4u * cylinder_segments(radius)) << radius;
+    for (const auto& v : m.vertices) {
+      const float from_axis = std::hypot(v.x(), v.z());
+      EXPECT_TRUE(from_axis < 1e-6f || std::abs(from_axis - radius) < 1e-6f) << from_axis;
+    }
+  }
+}
+
 TEST(Wheelchair, CcByModelLoadsAtItsSize) {
   const TriMesh m = load_cc_by_wheelchair();
   Eigen::Vector3f lo = m.vertices[0], hi = m.vertices[0];
@@ -203,7 +220,8 @@ TEST(Person, CcByChairIsScaledUnderTheSeat) {
   float lowest = 1e9f;
   for (const auto& v : p.chair.model.vertices) lowest = std::min(lowest, v.y());
   EXPECT_NEAR(lowest, 0.0f, 1e-4f);
-  EXPECT_NEAR(seat_surface_height(p.chair.model), p.chair.dimensions["seat_height"].get<float>(), 0.012f);
+  EXPECT_NEAR(seat_surface_height(p.chair.model), p.chair.dimensions["seat_height"].get<float>(),
+              0.012f);
   const float scale = p.chair.dimensions["scale"].get<float>();
   EXPECT_GT(scale, 0.6f);
   EXPECT_LT(scale, 1.6f);

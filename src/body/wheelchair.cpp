@@ -232,7 +232,8 @@ float seat_surface_height(const TriMesh& m) {
 }
 
 Wheelchair make_wheelchair(WheelchairType type, const SeatFit& fit, RandomStream& s) {
-  if (type == WheelchairType::kCcBy) return place_cc_by(make_wheelchair(WheelchairType::kManual, fit, s), fit);
+  if (type == WheelchairType::kCcBy)
+    return place_cc_by(make_wheelchair(WheelchairType::kManual, fit, s), fit);
   Wheelchair c;
   c.type = type;
   c.colours = {random_colour(s, 0.05f, 0.9f), random_colour(s, 0.02f, 0.25f),
@@ -408,6 +409,14 @@ TriMesh primitive_mesh(const Wheelchair& chair, int material) {
   return primitive_mesh(chair.parts, material);
 }
 
+int cylinder_segments(float radius) {
+  // Chords of at most 5 mm (about a pixel at 3 m in a 1280×720, 50° frame): a 4 mm spoke gets
+  // 6 sides instead of 24, which cuts a manual chair's triangles by more than half.
+  constexpr float kMaxChord = 0.005f;
+  const float n = std::ceil(2 * kPi * radius / kMaxChord);
+  return static_cast<int>(std::clamp(n, 6.0f, 24.0f));
+}
+
 TriMesh primitive_mesh(const std::vector<Primitive>& parts, int material) {
   TriMesh m;
   auto add_quad = [&](const std::array<Eigen::Vector3f, 4>& q, const Eigen::Vector3f& n) {
@@ -444,8 +453,8 @@ TriMesh primitive_mesh(const std::vector<Primitive>& parts, int material) {
         }
       }
     } else {
-      constexpr int kSegments = 24;
       const float hl = prim.half.x(), r = prim.half.y();
+      const int kSegments = cylinder_segments(r);
       for (int k = 0; k < kSegments; ++k) {
         const float a0 = 2 * kPi * k / kSegments, a1 = 2 * kPi * (k + 1) / kSegments;
         const Eigen::Vector3f d0(0, std::cos(a0), std::sin(a0)), d1(0, std::cos(a1), std::sin(a1));

@@ -72,6 +72,9 @@ float inside_depth(const Primitive& prim, const Eigen::Vector3f& p);
 float max_penetration(const Wheelchair& chair, const std::vector<Eigen::Vector3f>& points,
                       std::string* part = nullptr);
 
+// Sides of a cylinder of `radius` metres in primitive_mesh: 6 to 24, chords of at most 5 mm.
+int cylinder_segments(float radius);
+
 // Triangle mesh of all parts of one material (material 0 of a CC-BY chair: its model).
 TriMesh primitive_mesh(const Wheelchair& chair, int material);
 TriMesh primitive_mesh(const std::vector<Primitive>& parts, int material);
