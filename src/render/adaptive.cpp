@@ -92,13 +92,11 @@ long long mark_edges(int width, int height, const std::vector<LightingGuide>& gu
       [](long long a, long long b) { return a + b; });
 }
 
-void mark_slivers(const scene::Projector& projector, const float* vertices,
-                  const std::vector<Eigen::Vector3i>& triangles,
-                  std::vector<std::uint8_t>& refine) {
+void find_slivers(const scene::Projector& projector, const float* vertices,
+                  const std::vector<Eigen::Vector3i>& triangles, std::vector<Sliver>& out) {
   constexpr float kNear = 1e-3f;
-  const int w = projector.width, h = projector.height;
-  WHEELPOSE_CHECK(refine.size() == static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
-  cv::Mat mask(h, w, CV_8U, refine.data());  // a view: lines are drawn into `refine`
+  // Far off-screen endpoints would overflow cv::Point; such lines cannot cross the screen.
+  const float limit = 4.0f * static_cast<float>(std::max(projector.width, projector.height)) + 1e4f;
   for (const Eigen::Vector3i& tri : triangles) {
     Eigen::Vector2f p[3];
     bool in_front = true;
@@ -121,14 +119,21 @@ void mark_slivers(const scene::Projector& projector, const float* vertices,
     if (height >= 1.0f) continue;  // a pixel wide or more: edge detection sees it
     const Eigen::Vector2f& from = p[longest];
     const Eigen::Vector2f& to = p[(longest + 1) % 3];
-    // Far off-screen endpoints would overflow cv::Point; such lines cannot be on screen anyway.
-    const float limit = 4.0f * static_cast<float>(std::max(w, h)) + 1e4f;
     if (from.cwiseAbs().maxCoeff() > limit || to.cwiseAbs().maxCoeff() > limit) continue;
-    cv::line(
-        mask,
-        cv::Point(static_cast<int>(std::lround(from.x())), static_cast<int>(std::lround(from.y()))),
-        cv::Point(static_cast<int>(std::lround(to.x())), static_cast<int>(std::lround(to.y()))),
-        cv::Scalar(1), 2, cv::LINE_8);  // thickness 2: a 3-pixel band
+    auto pixel = [](const Eigen::Vector2f& q) {
+      return cv::Point(static_cast<int>(std::lround(q.x())), static_cast<int>(std::lround(q.y())));
+    };
+    out.push_back({pixel(from), pixel(to)});
+  }
+}
+
+void mark_slivers(const std::vector<Sliver>& slivers, int width, int height,
+                  std::vector<std::uint8_t>& refine) {
+  WHEELPOSE_CHECK(refine.size() ==
+                  static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+  cv::Mat mask(height, width, CV_8U, refine.data());  // a view: lines are drawn into `refine`
+  for (const Sliver& s : slivers) {
+    cv::line(mask, s.from, s.to, cv::Scalar(1), 2, cv::LINE_8);  // thickness 2: a 3-pixel band
   }
 }
 

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <opencv2/core.hpp>
 #include <vector>
 
 #include "render/denoise.h"
@@ -22,12 +23,20 @@ long long mark_edges(int width, int height, const std::vector<LightingGuide>& gu
                      const std::vector<std::array<float, 3>>& color, float contrast,
                      std::vector<std::uint8_t>& refine);
 
-// Sets refine = 1 along every triangle that projects thinner than a pixel but longer than two
-// (wheel spokes, wires, chair legs far away): the first samples may miss such a part along its
-// whole length, so no edge shows. `vertices` holds 3 floats per vertex (world space). Triangles
-// with a vertex behind the camera are skipped. Marks a band 3 pixels wide along the triangle's
-// longest edge.
-void mark_slivers(const scene::Projector& projector, const float* vertices,
-                  const std::vector<Eigen::Vector3i>& triangles, std::vector<std::uint8_t>& refine);
+// A triangle that projects thinner than a pixel but longer than two (wheel spokes, wires, chair
+// legs far away): the first samples may miss such a part along its whole length, so no edge
+// shows. Its longest edge, in pixel coordinates.
+struct Sliver {
+  cv::Point from, to;
+};
+
+// Appends the slivers among `triangles` (vertices: 3 floats each, world space). Triangles with a
+// vertex behind the camera are skipped.
+void find_slivers(const scene::Projector& projector, const float* vertices,
+                  const std::vector<Eigen::Vector3i>& triangles, std::vector<Sliver>& out);
+
+// Sets refine = 1 in a band 3 pixels wide along each sliver (refine: width × height, row-major).
+void mark_slivers(const std::vector<Sliver>& slivers, int width, int height,
+                  std::vector<std::uint8_t>& refine);
 
 }  // namespace wheelpose::render

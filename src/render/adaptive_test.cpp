@@ -107,7 +107,9 @@ scene::Projector test_projector() {
 int count_marked(const std::vector<float>& vertices, const std::vector<Eigen::Vector3i>& tris) {
   const scene::Projector p = test_projector();
   std::vector<std::uint8_t> refine(static_cast<std::size_t>(p.width) * p.height, 0);
-  mark_slivers(p, vertices.data(), tris, refine);
+  std::vector<Sliver> slivers;
+  find_slivers(p, vertices.data(), tris, slivers);
+  mark_slivers(slivers, p.width, p.height, refine);
   return static_cast<int>(std::count(refine.begin(), refine.end(), 1));
 }
 

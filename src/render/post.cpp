@@ -77,15 +77,19 @@ cv::Mat apply_post_linear(const cv::Mat& linear, const cv::Mat& depth, const sce
     img += glow * (4.0 * p.bloom);
   }
   const float contrast = 1.0f + p.contrast / 100.0f;
+  if (contrast != 1.0f) {
+    // Power curve about mid grey: steeper above and below it for contrast > 0. OpenCV's
+    // vectorised pow over the whole image (negative values clamp to 0 first).
+    cv::Mat channels = img.reshape(1);
+    cv::max(channels, 0.0, channels);
+    channels *= 1.0 / kMidGrey;
+    cv::pow(channels, contrast, channels);
+    channels *= kMidGrey;
+  }
   const float saturation = 1.0f + p.saturation / 100.0f;
   const float cx = 0.5f * img.cols, cy = 0.5f * img.rows;
   const float corner = std::hypot(cx, cy);
   img.forEach<cv::Vec3f>([&](cv::Vec3f& c, const int* pos) {
-    if (contrast != 1.0f) {
-      // Power curve about mid grey: steeper above and below it for contrast > 0.
-      for (int i = 0; i < 3; ++i)
-        c[i] = c[i] > 0 ? kMidGrey * std::pow(c[i] / kMidGrey, contrast) : 0.0f;
-    }
     if (saturation != 1.0f) {
       const float l = luminance(c);
       for (int i = 0; i < 3; ++i) c[i] = std::max(0.0f, l + (c[i] - l) * saturation);

@@ -383,10 +383,14 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
   if (adaptive) {
     mark_edges(w, h, lighting.guide, lighting.first_color, options.adaptive_contrast,
                lighting.refine);
+    // Slivers found per geometry in parallel, then drawn in geometry order.
     const scene::Projector projector(scene_.camera);
-    for (const Geometry& g : geometries_) {
-      if (g.present) mark_slivers(projector, g.vertices, g.triangles, lighting.refine);
-    }
+    std::vector<std::vector<Sliver>> slivers(geometries_.size());
+    tbb::parallel_for(std::size_t{0}, geometries_.size(), [&](std::size_t i) {
+      const Geometry& g = geometries_[i];
+      if (g.present) find_slivers(projector, g.vertices, g.triangles, slivers[i]);
+    });
+    for (const auto& found : slivers) mark_slivers(found, w, h, lighting.refine);
     const auto marked = std::count(lighting.refine.begin(), lighting.refine.end(), 1);
     timings_.refined_fraction = static_cast<double>(marked) / static_cast<double>(pixels);
     run_pass(options.light_samples, options.spp, lighting.refine.data());
