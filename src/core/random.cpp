@@ -29,13 +29,6 @@ RandomStream RandomStream::child(std::initializer_list<StreamKey> keys) const {
   return RandomStream(combine(identity_, keys));
 }
 
-std::uint64_t RandomStream::next_u64() {
-  state_ += 0x9e3779b97f4a7c15ULL;
-  return StreamKey::mix(state_);
-}
-
-double RandomStream::uniform01() { return static_cast<double>(next_u64() >> 11) * 0x1.0p-53; }
-
 double RandomStream::uniform(double lo, double hi) { return lo + (hi - lo) * uniform01(); }
 
 std::int64_t RandomStream::uniform_int(std::int64_t lo, std::int64_t hi) {

@@ -41,9 +41,13 @@ class RandomStream {
   // A stream derived from this one's identity (not its position) and further keys.
   RandomStream child(std::initializer_list<StreamKey> keys) const;
 
-  std::uint64_t next_u64();
+  // Inline: the renderer draws millions per frame.
+  std::uint64_t next_u64() {
+    state_ += 0x9e3779b97f4a7c15ULL;
+    return StreamKey::mix(state_);
+  }
   // Uniform in [0, 1) with 53 random bits.
-  double uniform01();
+  double uniform01() { return static_cast<double>(next_u64() >> 11) * 0x1.0p-53; }
   // Uniform in [lo, hi).
   double uniform(double lo, double hi);
   // Uniform integer in [lo, hi] (inclusive), unbiased.

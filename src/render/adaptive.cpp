@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
@@ -97,16 +98,21 @@ void find_slivers(const scene::Projector& projector, const float* vertices,
   constexpr float kNear = 1e-3f;
   // Far off-screen endpoints would overflow cv::Point; such lines cannot cross the screen.
   const float limit = 4.0f * static_cast<float>(std::max(projector.width, projector.height)) + 1e4f;
+  // Each vertex projected once (NaN marks one behind the camera), then read per triangle.
+  int vertex_count = 0;
+  for (const Eigen::Vector3i& tri : triangles)
+    vertex_count = std::max(vertex_count, tri.maxCoeff() + 1);
+  std::vector<Eigen::Vector2f> projected(static_cast<std::size_t>(vertex_count));
+  for (int v = 0; v < vertex_count; ++v) {
+    const Eigen::Vector3f cam =
+        projector.to_camera(Eigen::Map<const Eigen::Vector3f>(vertices + 3 * v));
+    projected[v] = cam.z() < -kNear
+                       ? projector.project(cam)
+                       : Eigen::Vector2f::Constant(std::numeric_limits<float>::quiet_NaN());
+  }
   for (const Eigen::Vector3i& tri : triangles) {
-    Eigen::Vector2f p[3];
-    bool in_front = true;
-    for (int c = 0; c < 3 && in_front; ++c) {
-      const Eigen::Vector3f cam =
-          projector.to_camera(Eigen::Map<const Eigen::Vector3f>(vertices + 3 * tri[c]));
-      in_front = cam.z() < -kNear;
-      if (in_front) p[c] = projector.project(cam);
-    }
-    if (!in_front) continue;
+    const Eigen::Vector2f p[3] = {projected[tri[0]], projected[tri[1]], projected[tri[2]]};
+    if (std::isnan(p[0].x()) || std::isnan(p[1].x()) || std::isnan(p[2].x())) continue;
     int longest = 0;
     float longest_len = 0;
     for (int e = 0; e < 3; ++e) {
