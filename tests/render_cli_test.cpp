@@ -119,6 +119,25 @@ TEST(RenderCli, BadFlagsAreUsageErrors) {
   EXPECT_NE(more_lit.output.find("--light-samples (3) cannot exceed --spp (2)"), std::string::npos)
       << more_lit.output;
   EXPECT_FALSE(fs::exists(dir / "out"));
+  const auto contrast = run_wheelpose("render " + (dir / "wall.json").string() + " --out " +
+                                      (dir / "out").string() + " --adaptive-contrast 5");
+  EXPECT_EQ(contrast.exit_code, 2) << contrast.output;
+  EXPECT_NE(contrast.output.find("--adaptive-contrast"), std::string::npos) << contrast.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+TEST(RenderCli, AdaptiveAntiAliasingIsReportedAndCanBeTurnedOff) {
+  const fs::path dir = fresh_temp_dir("render_cli_adaptive");
+  write(dir / "wall.json", kWall);
+  const std::string base =
+      "render " + (dir / "wall.json").string() + " --out " + (dir / "out").string() + " --spp 4";
+  const auto adaptive = run_wheelpose(base);
+  ASSERT_EQ(adaptive.exit_code, 0) << adaptive.output;
+  EXPECT_EQ(adaptive.output.find("100.0 % of pixels took all"), std::string::npos)
+      << adaptive.output;  // a plain wall: few pixels need more than one sample
+  const auto uniform = run_wheelpose(base + " --adaptive-contrast -1");
+  ASSERT_EQ(uniform.exit_code, 0) << uniform.output;
+  EXPECT_NE(uniform.output.find("100.0 % of pixels took all"), std::string::npos) << uniform.output;
 }
 
 TEST(RenderCli, MissingSceneFileIsBadInput) {
