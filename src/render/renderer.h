@@ -34,7 +34,8 @@ namespace wheelpose::render {
 //
 // Adaptive anti-aliasing: every pixel first takes its `light_samples` samples; only pixels
 // whose 3×3 neighbourhood shows an edge in those first samples (another surface, a crease, a
-// depth step, an albedo or background contrast above `adaptive_contrast`) take the rest. A
+// depth step, an albedo or background contrast above `adaptive_contrast`) or that lie along a
+// triangle thinner than a pixel (render/adaptive.h) take the rest. A
 // pixel so refined gets exactly the value a uniform render gives it, the others exactly the
 // value of a render with spp = light_samples. Off with a lens (defocus blur needs every
 // sample) and when adaptive_contrast < 0.
