@@ -171,6 +171,9 @@ Renderer::Renderer(const scene::Scene& scene) : scene_(scene) {
     const Eigen::Affine3f xf(in.transform);
     const Eigen::Matrix3f normal_matrix = xf.linear().inverse().transpose();
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    // A LOW scene is two-level and builds each geometry at the geometry's own quality (default
+    // MEDIUM): LOW here made commits 3× faster for 3 % less CPU per generated frame overall.
+    rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_LOW);
     auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
                                                           RTC_FORMAT_FLOAT3, 3 * sizeof(float),
                                                           mesh.positions.size()));

@@ -2,9 +2,10 @@
 // Embree ray tracing of a Scene into frame buffers, and ray queries for the annotator.
 //
 // Build: every instance becomes one triangle geometry in a single flat Embree scene (world-space
-// vertices; flat was faster than instancing in the spike), build quality LOW (MEDIUM traced
-// rays faster but, since decoupled shading traces fewer rays, its 15–20 ms more build per
-// 300k-triangle frame no longer paid off); geometry id = index into Scene::instances.
+// vertices; flat was faster than instancing in the spike), build quality LOW for the scene
+// and for each geometry (MEDIUM traces rays ≈ 10 % faster, but with decoupled shading and
+// adaptive anti-aliasing a frame traces too few rays to pay for its 3× slower build);
+// geometry id = index into Scene::instances.
 // Trace: TBB over 8×8-pixel tiles; each tile shoots 4×2-pixel packets (rtcIntersect8) per
 // sample, then, for the samples that light (see RenderOptions), shadow packets (rtcOccluded8)
 // for the sun, one sampled point light and the environment. Every random number comes from
