@@ -37,22 +37,22 @@ RowPlanes row_planes(const DenoiseScratch& g, const std::vector<float> (&light)[
   return r;
 }
 
-// Adds, for pixels [x0, x1) of a row, the weighted light of the neighbour at the same index of
-// `q` (the row's planes shifted by the tap offset) into the sums. Restrict parameters and no
-// branches let the compiler vectorise the loop.
+// Adds, for `count` pixels, the weighted light of the neighbour at the same index of the q_*
+// planes (the centre planes shifted by the tap offset) into the sums. Restrict parameters and
+// no branches let the compiler vectorise the loop.
 void accumulate_tap(
-    int x0, int x1, float kernel_weight, const int* __restrict c_surface,
-    const float* __restrict nx, const float* __restrict ny, const float* __restrict nz,
-    const float* __restrict px, const float* __restrict py, const float* __restrict pz,
-    const int* __restrict q_surface, const float* __restrict q_nx, const float* __restrict q_ny,
-    const float* __restrict q_nz, const float* __restrict q_px, const float* __restrict q_py,
-    const float* __restrict q_pz, const float* __restrict l0, const float* __restrict l1,
-    const float* __restrict l2, const float* __restrict l3, const float* __restrict l4,
-    const float* __restrict l5, float* __restrict w_sum, float* __restrict s0, float* __restrict s1,
-    float* __restrict s2, float* __restrict s3, float* __restrict s4, float* __restrict s5) {
+    int count, float kernel_weight, const int* __restrict c_surface, const float* __restrict nx,
+    const float* __restrict ny, const float* __restrict nz, const float* __restrict px,
+    const float* __restrict py, const float* __restrict pz, const int* __restrict q_surface,
+    const float* __restrict q_nx, const float* __restrict q_ny, const float* __restrict q_nz,
+    const float* __restrict q_px, const float* __restrict q_py, const float* __restrict q_pz,
+    const float* __restrict l0, const float* __restrict l1, const float* __restrict l2,
+    const float* __restrict l3, const float* __restrict l4, const float* __restrict l5,
+    float* __restrict w_sum, float* __restrict s0, float* __restrict s1, float* __restrict s2,
+    float* __restrict s3, float* __restrict s4, float* __restrict s5) {
   constexpr float kPlane2 = kPlaneSine * kPlaneSine, kMaxPlane2 = kMaxPlaneSine * kMaxPlaneSine;
   constexpr float kTiny = 1e-30f;  // keeps 0 / 0 (coincident points) at a ratio of 1
-  for (int x = x0; x < x1; ++x) {
+  for (int x = 0; x < count; ++x) {
     const float agree = nx[x] * q_nx[x] + ny[x] * q_ny[x] + nz[x] * q_nz[x];
     const float sx = q_px[x] - px[x], sy = q_py[x] - py[x], sz = q_pz[x] - pz[x];
     const float len2 = sx * sx + sy * sy + sz * sz;
@@ -98,12 +98,17 @@ void filter_pass(const DenoiseScratch& g, const std::vector<float>& kernel, int 
           if (y + d < 0 || y + d >= h) continue;
           step = static_cast<std::ptrdiff_t>(d) * w;
         }
-        const RowPlanes q = row_planes(g, in, row + step);
-        accumulate_tap(x0, x1, kernel[d < 0 ? -d : d], c.surface, c.geometry[0], c.geometry[1],
-                       c.geometry[2], c.geometry[3], c.geometry[4], c.geometry[5], q.surface,
+        if (x1 <= x0) continue;
+        // Planes from the first pixel that has this neighbour on, so no pointer ever points
+        // before an array.
+        const RowPlanes c0 = row_planes(g, in, row + x0);
+        const RowPlanes q = row_planes(g, in, row + step + x0);
+        accumulate_tap(x1 - x0, kernel[d < 0 ? -d : d], c0.surface, c0.geometry[0], c0.geometry[1],
+                       c0.geometry[2], c0.geometry[3], c0.geometry[4], c0.geometry[5], q.surface,
                        q.geometry[0], q.geometry[1], q.geometry[2], q.geometry[3], q.geometry[4],
                        q.geometry[5], q.light[0], q.light[1], q.light[2], q.light[3], q.light[4],
-                       q.light[5], s[6], s[0], s[1], s[2], s[3], s[4], s[5]);
+                       q.light[5], s[6] + x0, s[0] + x0, s[1] + x0, s[2] + x0, s[3] + x0, s[4] + x0,
+                       s[5] + x0);
       }
       for (int x = 0; x < w; ++x) {
         // The centre always counts (weight ≈ 1), so a lit pixel's sum of weights is > 0.
