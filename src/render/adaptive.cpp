@@ -2,7 +2,6 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cmath>
@@ -47,9 +46,9 @@ constexpr int kForward[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
 
 }  // namespace
 
-long long mark_edges(int width, int height, const std::vector<LightingGuide>& guide,
-                     const std::vector<std::array<float, 3>>& color, float contrast,
-                     std::vector<std::uint8_t>& refine) {
+void mark_edges(int width, int height, const std::vector<LightingGuide>& guide,
+                const std::vector<std::array<float, 3>>& color, float contrast,
+                std::vector<std::uint8_t>& refine) {
   const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   WHEELPOSE_CHECK(width >= 0 && height >= 0 && guide.size() == n && color.size() == n);
   // Pass 1: bit d of edges[i] = an edge between pixel i and its forward neighbour d. Each pair
@@ -71,26 +70,21 @@ long long mark_edges(int width, int height, const std::vector<LightingGuide>& gu
     }
   });
   refine.resize(n);
-  return tbb::parallel_reduce(
-      tbb::blocked_range<int>(0, height), 0LL,
-      [&](const tbb::blocked_range<int>& rows, long long marked) {
-        for (int y = rows.begin(); y < rows.end(); ++y) {
-          for (int x = 0; x < width; ++x) {
-            const std::size_t i = static_cast<std::size_t>(y) * width + x;
-            bool edge = edges[i] != 0;
-            // Pairs of which this pixel is the forward end.
-            for (int d = 0; d < 4 && !edge; ++d) {
-              const int px = x - kForward[d][0], py = y - kForward[d][1];
-              if (px < 0 || px >= width || py < 0) continue;
-              edge = (edges[static_cast<std::size_t>(py) * width + px] >> d) & 1u;
-            }
-            refine[i] = edge ? 1 : 0;
-            marked += edge;
-          }
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y < rows.end(); ++y) {
+      for (int x = 0; x < width; ++x) {
+        const std::size_t i = static_cast<std::size_t>(y) * width + x;
+        bool edge = edges[i] != 0;
+        // Pairs of which this pixel is the forward end.
+        for (int d = 0; d < 4 && !edge; ++d) {
+          const int px = x - kForward[d][0], py = y - kForward[d][1];
+          if (px < 0 || px >= width || py < 0) continue;
+          edge = (edges[static_cast<std::size_t>(py) * width + px] >> d) & 1u;
         }
-        return marked;
-      },
-      [](long long a, long long b) { return a + b; });
+        refine[i] = edge ? 1 : 0;
+      }
+    }
+  });
 }
 
 void find_slivers(const scene::Projector& projector, const float* vertices,

@@ -17,11 +17,11 @@ namespace wheelpose::render {
 // Sets refine[i] = 1 for every pixel that differs from one of its 8 neighbours in surface, in
 // normal (more than ≈ 18°), in depth (the neighbour lies more than 30° off the pixel's tangent
 // plane) or in colour (a channel of `color`, the first samples' albedo or background radiance,
-// differs by more than `contrast`); 0 otherwise. Both sides of an edge are marked. Returns the
-// number of pixels marked. Pure per pixel, so independent of the thread count.
-long long mark_edges(int width, int height, const std::vector<LightingGuide>& guide,
-                     const std::vector<std::array<float, 3>>& color, float contrast,
-                     std::vector<std::uint8_t>& refine);
+// differs by more than `contrast`); 0 otherwise. Both sides of an edge are marked. Pure per
+// pixel, so independent of the thread count.
+void mark_edges(int width, int height, const std::vector<LightingGuide>& guide,
+                const std::vector<std::array<float, 3>>& color, float contrast,
+                std::vector<std::uint8_t>& refine);
 
 // A triangle that projects thinner than a pixel but longer than two (wheel spokes, wires, chair
 // legs far away): the first samples may miss such a part along its whole length, so no edge

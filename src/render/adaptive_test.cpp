@@ -59,8 +59,6 @@ TEST(MarkEdges, AnotherSurfaceMarksBothSidesOfTheBoundary) {
     for (int x = 6; x < kW; ++x) f.guide[y * kW + x].surface = 1;
   }
   EXPECT_EQ(marked_columns(f.mark()), (std::vector<int>{5, 6}));
-  std::vector<std::uint8_t> refine;
-  EXPECT_EQ(mark_edges(kW, kH, f.guide, f.color, 0.05f, refine), 2 * kH);  // the count returned
 }
 
 TEST(MarkEdges, ACreaseADepthStepAndAColourStepAreEdges) {
