@@ -12,6 +12,7 @@
 #include <fstream>
 #include <string>
 
+#include "core/allocator.h"
 #include "core/config.h"
 #include "generate/runner.h"
 #include "generate/scenario.h"
@@ -39,10 +40,9 @@ wheelpose::generate::RunOptions options(const std::string& name, std::int64_t fr
   return o;
 }
 
-
 void BM_GeneratePeakRss(benchmark::State& state) {
-  const auto scenario = wheelpose::generate::Scenario::from_config(wheelpose::ConfigNode::load_string(
-      "image: {width: 320, height: 180, spp: 1}\n", "<bench>"));
+  const auto scenario = wheelpose::generate::Scenario::from_config(
+      wheelpose::ConfigNode::load_string("image: {width: 320, height: 180, spp: 1}\n", "<bench>"));
   for (auto _ : state) {
     // Reset the high-water mark so each run reports its own peak (Linux ≥ 4.0).
     std::ofstream("/proc/self/clear_refs") << "5";
@@ -54,7 +54,12 @@ void BM_GeneratePeakRss(benchmark::State& state) {
     fs::remove_all(o.out);
   }
 }
-BENCHMARK(BM_GeneratePeakRss)->Arg(200)->Arg(2000)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
+BENCHMARK(BM_GeneratePeakRss)
+    ->Arg(200)
+    ->Arg(2000)
+    ->Iterations(1)
+    ->UseManualTime()
+    ->Unit(benchmark::kSecond);
 
 void BM_GeneratePaperPreset(benchmark::State& state) {
   const auto scenario = wheelpose::generate::Scenario::defaults();
@@ -68,8 +73,20 @@ void BM_GeneratePaperPreset(benchmark::State& state) {
     fs::remove_all(o.out);
   }
 }
-BENCHMARK(BM_GeneratePaperPreset)->Arg(24)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
+BENCHMARK(BM_GeneratePaperPreset)
+    ->Arg(24)
+    ->Iterations(1)
+    ->UseManualTime()
+    ->Unit(benchmark::kSecond);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+// The command's own heap tuning (core/allocator.h), so figures match `wheelpose`.
+int main(int argc, char** argv) {
+  wheelpose::retain_freed_memory();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

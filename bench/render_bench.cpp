@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <string>
 
+#include "core/allocator.h"
 #include "core/random.h"
 #include "render/denoise.h"
 #include "render/frame_io.h"
@@ -257,4 +258,12 @@ BENCHMARK(BM_Denoise)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 
-BENCHMARK_MAIN();
+// The command's own heap tuning (core/allocator.h), so figures match `wheelpose`.
+int main(int argc, char** argv) {
+  wheelpose::retain_freed_memory();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

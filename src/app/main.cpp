@@ -7,9 +7,11 @@
 #include <exception>
 
 #include "app/command.h"
+#include "core/allocator.h"
 #include "core/error.h"
 
 int main(int argc, char** argv) {
+  wheelpose::retain_freed_memory();
   CLI::App app{"WheelPose: synthetic training data for pose estimation of wheelchair users"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Print help for every command");
@@ -19,7 +21,8 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "Log only warnings and errors");
   app.parse_complete_callback([&] {
     spdlog::set_level(verbose ? spdlog::level::debug
-                              : quiet ? spdlog::level::warn : spdlog::level::info);
+                      : quiet ? spdlog::level::warn
+                              : spdlog::level::info);
   });
   spdlog::set_pattern("%^%l%$: %v");
   for (const auto& command : wheelpose::app::command_table()) command.attach(app);

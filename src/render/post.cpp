@@ -28,26 +28,32 @@ cv::Mat lens_blur(const cv::Mat& linear, const cv::Mat& depth, float max_radius,
   std::array<cv::Mat, 4> levels = {linear, blur(linear, std::max(0.3f, radii[0] / 2)),
                                    blur(linear, std::max(0.3f, radii[1] / 2)),
                                    blur(linear, std::max(0.3f, radii[2] / 2))};
-  cv::Mat out = linear.clone();
-  for (int y = 0; y < linear.rows; ++y) {
-    for (int x = 0; x < linear.cols; ++x) {
-      const float d = depth.at<float>(y, x);
-      const float coc =
-          d > 0 ? std::min(max_radius, max_radius * std::abs(d - focus) / std::max(d, 1e-3f))
-                : max_radius;
-      // Position of coc on the level scale 0, r/4, r/2, r.
-      float lo_r = 0;
-      int level = 0;
-      for (; level < 3 && coc > radii[level]; ++level) lo_r = radii[level];
-      if (level == 3) {
-        out.at<cv::Vec3f>(y, x) = levels[3].at<cv::Vec3f>(y, x);
-        continue;
+  cv::Mat out(linear.size(), linear.type());
+  // Each pixel is a pure function of its own inputs: rows in parallel give the same image.
+  cv::parallel_for_(cv::Range(0, linear.rows), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      const float* d_row = depth.ptr<float>(y);
+      std::array<const cv::Vec3f*, 4> level_row;
+      for (int i = 0; i < 4; ++i) level_row[i] = levels[i].ptr<cv::Vec3f>(y);
+      cv::Vec3f* o = out.ptr<cv::Vec3f>(y);
+      for (int x = 0; x < linear.cols; ++x) {
+        const float d = d_row[x];
+        const float coc =
+            d > 0 ? std::min(max_radius, max_radius * std::abs(d - focus) / std::max(d, 1e-3f))
+                  : max_radius;
+        // Position of coc on the level scale 0, r/4, r/2, r.
+        float lo_r = 0;
+        int level = 0;
+        for (; level < 3 && coc > radii[level]; ++level) lo_r = radii[level];
+        if (level == 3) {
+          o[x] = level_row[3][x];
+          continue;
+        }
+        const float t = (coc - lo_r) / std::max(1e-6f, radii[level] - lo_r);
+        o[x] = level_row[level][x] * (1 - t) + level_row[level + 1][x] * t;
       }
-      const float t = (coc - lo_r) / std::max(1e-6f, radii[level] - lo_r);
-      out.at<cv::Vec3f>(y, x) =
-          levels[level].at<cv::Vec3f>(y, x) * (1 - t) + levels[level + 1].at<cv::Vec3f>(y, x) * t;
     }
-  }
+  });
   return out;
 }
 
@@ -114,16 +120,18 @@ cv::Mat encode_srgb(const cv::Mat& linear) {
     }
     return t;
   }();
-  for (int y = 0; y < linear.rows; ++y) {
-    const cv::Vec3f* in = linear.ptr<cv::Vec3f>(y);
-    cv::Vec3b* o = out.ptr<cv::Vec3b>(y);
-    for (int x = 0; x < linear.cols; ++x) {
-      for (int i = 0; i < 3; ++i) {
-        const float c = std::clamp(in[x][i], 0.0f, 1.0f);
-        o[x][i] = table[static_cast<int>(c * 4096.0f + 0.5f)];
+  cv::parallel_for_(cv::Range(0, linear.rows), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      const cv::Vec3f* in = linear.ptr<cv::Vec3f>(y);
+      cv::Vec3b* o = out.ptr<cv::Vec3b>(y);
+      for (int x = 0; x < linear.cols; ++x) {
+        for (int i = 0; i < 3; ++i) {
+          const float c = std::clamp(in[x][i], 0.0f, 1.0f);
+          o[x][i] = table[static_cast<int>(c * 4096.0f + 0.5f)];
+        }
       }
     }
-  }
+  });
   return out;
 }
 
