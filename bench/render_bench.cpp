@@ -2,7 +2,8 @@
 // ≈ 40k triangles (subdivided capsules and a box as stand-ins for body and wheelchair), 25
 // textured occluders, a textured background wall, sun + 7 point lights and a sky — at 1 and
 // 4 spp, broken down into build, trace, shade, denoise, post and encode times (counters, in ms);
-// render_ms is the frame without the encoding.
+// render_ms is the frame without the encoding; (c) the per-frame image passes alone:
+// BM_Denoise (lighting smoothing) and BM_MarkEdges (adaptive anti-aliasing's edge marking).
 //
 // Run: build/<dir>/bench/bench_render [--benchmark_filter=...]
 
@@ -13,6 +14,7 @@
 
 #include "core/allocator.h"
 #include "core/random.h"
+#include "render/adaptive.h"
 #include "render/denoise.h"
 #include "render/frame_io.h"
 #include "render/renderer.h"
@@ -219,29 +221,35 @@ BENCHMARK(BM_PaperFrame)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
-// The lighting smoothing alone on a 1280×720 frame: four surfaces (quadrants) at two depths
-// and two slants, noisy light.
-void BM_Denoise(benchmark::State& state) {
-  const int w = 1280, h = 720, radius = static_cast<int>(state.range(0));
+// A 1280×720 guide of four surfaces (quadrants) at two depths and two slants.
+std::vector<render::LightingGuide> quadrant_guide(int w, int h) {
   std::vector<render::LightingGuide> guide(static_cast<std::size_t>(w) * h);
-  std::vector<render::PixelLight> noisy(guide.size());
-  RandomStream rng(3, {"bench", "denoise"});
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * w + x;
       const int quadrant = (x >= w / 2) + 2 * (y >= h / 2);
       const float slant = quadrant % 2 ? 0.5f : 0.0f;
-      render::LightingGuide& g = guide[i];
+      render::LightingGuide& g = guide[static_cast<std::size_t>(y) * w + x];
       g.surface = quadrant;
       g.normal[0] = slant;
       g.normal[2] = std::sqrt(1 - slant * slant);
       g.position[0] = 0.005f * x;
       g.position[1] = -0.005f * y;
       g.position[2] = -2.0f - quadrant - slant * 0.005f * x;
-      for (int c = 0; c < 3; ++c) {
-        noisy[i].diffuse[c] = static_cast<float>(rng.uniform(0, 2));
-        noisy[i].specular[c] = static_cast<float>(rng.uniform(0, 0.1));
-      }
+    }
+  }
+  return guide;
+}
+
+// The lighting smoothing alone on the quadrant guide, noisy light.
+void BM_Denoise(benchmark::State& state) {
+  const int w = 1280, h = 720, radius = static_cast<int>(state.range(0));
+  const std::vector<render::LightingGuide> guide = quadrant_guide(w, h);
+  std::vector<render::PixelLight> noisy(guide.size());
+  RandomStream rng(3, {"bench", "denoise"});
+  for (auto& l : noisy) {
+    for (int c = 0; c < 3; ++c) {
+      l.diffuse[c] = static_cast<float>(rng.uniform(0, 2));
+      l.specular[c] = static_cast<float>(rng.uniform(0, 0.1));
     }
   }
   render::DenoiseScratch scratch;
@@ -255,6 +263,27 @@ void BM_Denoise(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Denoise)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Edge marking of adaptive anti-aliasing alone, from guide planes as the renderer passes them:
+// the quadrant guide with colour noise of which about one pixel pair in twelve crosses the
+// contrast.
+void BM_MarkEdges(benchmark::State& state) {
+  const int w = 1280, h = 720;
+  render::GuidePlanes planes;
+  planes.assign(quadrant_guide(w, h));
+  std::vector<float> color[3];
+  RandomStream rng(4, {"bench", "edges"});
+  for (auto& plane : color) {
+    plane.resize(planes.size());
+    for (float& c : plane) c = static_cast<float>(rng.uniform(0.4, 0.46));
+  }
+  std::vector<std::uint8_t> refine;
+  for (auto _ : state) {
+    render::mark_edges(w, h, planes, color, render::RenderOptions{}.adaptive_contrast, refine);
+    benchmark::DoNotOptimize(refine.data());
+  }
+}
+BENCHMARK(BM_MarkEdges)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

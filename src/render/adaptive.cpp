@@ -18,70 +18,110 @@ namespace {
 constexpr float kMinNormalCos = 0.95f;
 constexpr float kMaxPlaneSine = 0.5f;  // sin 30°
 
-// q lies off c's tangent plane by more than kMaxPlaneSine (compared squared, no root).
-bool off_plane(const LightingGuide& c, float sx, float sy, float sz) {
-  const float off = c.normal[0] * sx + c.normal[1] * sy + c.normal[2] * sz;
-  return off * off > kMaxPlaneSine * kMaxPlaneSine * (sx * sx + sy * sy + sz * sz);
-}
-
-// Whether two neighbouring pixels are on different sides of an edge (symmetric).
-bool edge_between(const LightingGuide& a, const std::array<float, 3>& a_color,
-                  const LightingGuide& b, const std::array<float, 3>& b_color, float contrast) {
-  if (a.surface != b.surface) return true;
-  for (int k = 0; k < 3; ++k) {
-    if (std::abs(a_color[k] - b_color[k]) > contrast) return true;
-  }
-  if (a.surface < 0) return false;  // background: colour only
-  const float agree =
-      a.normal[0] * b.normal[0] + a.normal[1] * b.normal[1] + a.normal[2] * b.normal[2];
-  if (agree < kMinNormalCos) return true;
-  const float sx = b.position[0] - a.position[0], sy = b.position[1] - a.position[1],
-              sz = b.position[2] - a.position[2];
-  return off_plane(a, sx, sy, sz) || off_plane(b, sx, sy, sz);
-}
-
 // The four neighbours after a pixel in reading order; with the four before it (whose own
 // forward pairs point back at it) they make the 8-neighbourhood.
 constexpr int kForward[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}};
+
+// Pointers to the planes from one pixel on.
+struct PlanesAt {
+  const int* surface;
+  const float* n[3];
+  const float* p[3];
+  const float* color[3];
+};
+
+PlanesAt planes_at(const GuidePlanes& g, const std::vector<float> (&color)[3], std::size_t i) {
+  return {g.surface.data() + i,
+          {g.geometry[0].data() + i, g.geometry[1].data() + i, g.geometry[2].data() + i},
+          {g.geometry[3].data() + i, g.geometry[4].data() + i, g.geometry[5].data() + i},
+          {color[0].data() + i, color[1].data() + i, color[2].data() + i}};
+}
+
+// For `count` pixel pairs (a[x], b[x]), sets `bit` in bits[x] when they lie on different sides
+// of an edge: another surface, a colour step above `contrast`, or, on a lit surface, normals
+// more than ≈ 18° apart or either point more than 30° off the other's tangent plane. Written
+// without branches so the compiler can vectorise it.
+void edge_bits(int count, const PlanesAt& a, const PlanesAt& b, float contrast, int bit,
+               std::uint8_t* __restrict bits) {
+  constexpr float kPlane2 = kMaxPlaneSine * kMaxPlaneSine;
+  for (int x = 0; x < count; ++x) {
+    const int colour = static_cast<int>(std::abs(a.color[0][x] - b.color[0][x]) > contrast) |
+                       static_cast<int>(std::abs(a.color[1][x] - b.color[1][x]) > contrast) |
+                       static_cast<int>(std::abs(a.color[2][x] - b.color[2][x]) > contrast);
+    const float anx = a.n[0][x], any = a.n[1][x], anz = a.n[2][x];
+    const float bnx = b.n[0][x], bny = b.n[1][x], bnz = b.n[2][x];
+    const float agree = anx * bnx + any * bny + anz * bnz;
+    const float sx = b.p[0][x] - a.p[0][x], sy = b.p[1][x] - a.p[1][x], sz = b.p[2][x] - a.p[2][x];
+    const float len2 = sx * sx + sy * sy + sz * sz;
+    const float off_a = anx * sx + any * sy + anz * sz;
+    const float off_b = bnx * sx + bny * sy + bnz * sz;
+    const int shape = static_cast<int>(agree < kMinNormalCos) |
+                      static_cast<int>(off_a * off_a > kPlane2 * len2) |
+                      static_cast<int>(off_b * off_b > kPlane2 * len2);
+    // The background (surface −1) compares by colour only.
+    const int edge = static_cast<int>(a.surface[x] != b.surface[x]) | colour |
+                     (static_cast<int>(a.surface[x] >= 0) & shape);
+    bits[x] = static_cast<std::uint8_t>(bits[x] | (edge << bit));
+  }
+}
 
 }  // namespace
 
 void mark_edges(int width, int height, const std::vector<LightingGuide>& guide,
                 const std::vector<std::array<float, 3>>& color, float contrast,
                 std::vector<std::uint8_t>& refine) {
+  GuidePlanes planes;
+  planes.assign(guide);
+  std::vector<float> color_planes[3];
+  for (int c = 0; c < 3; ++c) {
+    color_planes[c].reserve(color.size());
+    for (const auto& rgb : color) color_planes[c].push_back(rgb[c]);
+  }
+  mark_edges(width, height, planes, color_planes, contrast, refine);
+}
+
+void mark_edges(int width, int height, const GuidePlanes& guide,
+                const std::vector<float> (&color)[3], float contrast,
+                std::vector<std::uint8_t>& refine) {
   const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-  WHEELPOSE_CHECK(width >= 0 && height >= 0 && guide.size() == n && color.size() == n);
+  WHEELPOSE_CHECK(width >= 0 && height >= 0 && guide.size() == n);
+  for (const auto& plane : color) WHEELPOSE_CHECK(plane.size() == n);
   // Pass 1: bit d of edges[i] = an edge between pixel i and its forward neighbour d. Each pair
   // is tested once; pass 2 gathers both directions, so no pixel is written by two threads.
   std::vector<std::uint8_t> edges(n, 0);
   tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y < rows.end(); ++y) {
-      for (int x = 0; x < width; ++x) {
-        const std::size_t i = static_cast<std::size_t>(y) * width + x;
-        std::uint8_t bits = 0;
-        for (int d = 0; d < 4; ++d) {
-          const int qx = x + kForward[d][0], qy = y + kForward[d][1];
-          if (qx < 0 || qx >= width || qy >= height) continue;
-          const std::size_t j = static_cast<std::size_t>(qy) * width + qx;
-          if (edge_between(guide[i], color[i], guide[j], color[j], contrast)) bits |= 1u << d;
-        }
-        edges[i] = bits;
+      const std::size_t row = static_cast<std::size_t>(y) * width;
+      for (int d = 0; d < 4; ++d) {
+        const int dx = kForward[d][0], dy = kForward[d][1];
+        if (y + dy >= height) continue;
+        // Pixels x of this row whose forward neighbour (x + dx, y + dy) exists.
+        const int x0 = std::max(0, -dx), x1 = std::min(width, width - dx);
+        if (x1 <= x0) continue;
+        const std::size_t first = row + x0;
+        const std::size_t neighbour = first + static_cast<std::size_t>(dy) * width + dx;
+        edge_bits(x1 - x0, planes_at(guide, color, first), planes_at(guide, color, neighbour),
+                  contrast, d, edges.data() + first);
       }
     }
   });
   refine.resize(n);
   tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y < rows.end(); ++y) {
-      for (int x = 0; x < width; ++x) {
-        const std::size_t i = static_cast<std::size_t>(y) * width + x;
-        bool edge = edges[i] != 0;
-        // Pairs of which this pixel is the forward end.
-        for (int d = 0; d < 4 && !edge; ++d) {
-          const int px = x - kForward[d][0], py = y - kForward[d][1];
-          if (px < 0 || px >= width || py < 0) continue;
-          edge = (edges[static_cast<std::size_t>(py) * width + px] >> d) & 1u;
-        }
-        refine[i] = edge ? 1 : 0;
+      const std::size_t row = static_cast<std::size_t>(y) * width;
+      std::uint8_t* out = refine.data() + row;
+      const std::uint8_t* own = edges.data() + row;
+      for (int x = 0; x < width; ++x) out[x] = own[x] != 0;
+      // Pairs of which this pixel is the forward end: bit d of the pixel (x, y) − forward[d].
+      for (int d = 0; d < 4; ++d) {
+        const int dx = kForward[d][0], dy = kForward[d][1];
+        if (y - dy < 0) continue;
+        const int x0 = std::max(0, dx), x1 = std::min(width, width + dx);
+        // From the first pixel that has this back neighbour, so no pointer precedes the array.
+        const std::uint8_t* back =
+            edges.data() + (row - static_cast<std::size_t>(dy) * width + x0 - dx);
+        for (int k = 0; k < x1 - x0; ++k)
+          out[x0 + k] = static_cast<std::uint8_t>(out[x0 + k] | ((back[k] >> d) & 1u));
       }
     }
   });

@@ -22,6 +22,11 @@ namespace wheelpose::render {
 void mark_edges(int width, int height, const std::vector<LightingGuide>& guide,
                 const std::vector<std::array<float, 3>>& color, float contrast,
                 std::vector<std::uint8_t>& refine);
+// The same from planes: the guide's (the renderer builds them once for this and the smoothing)
+// and one per colour channel.
+void mark_edges(int width, int height, const GuidePlanes& guide,
+                const std::vector<float> (&color)[3], float contrast,
+                std::vector<std::uint8_t>& refine);
 
 // A triangle that projects thinner than a pixel but longer than two (wheel spokes, wires, chair
 // legs far away): the first samples may miss such a part along its whole length, so no edge

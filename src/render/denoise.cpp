@@ -27,7 +27,7 @@ struct RowPlanes {
   const float* light[6];
 };
 
-RowPlanes row_planes(const DenoiseScratch& g, const std::vector<float> (&light)[6],
+RowPlanes row_planes(const GuidePlanes& g, const std::vector<float> (&light)[6],
                      std::ptrdiff_t first) {
   RowPlanes r{g.surface.data() + first, {}, {}};
   for (int c = 0; c < 6; ++c) {
@@ -76,8 +76,8 @@ void accumulate_tap(
 }
 
 // One 1-D pass over planes `in` into `out`: along rows (along_x) or columns.
-void filter_pass(const DenoiseScratch& g, const std::vector<float>& kernel, int w, int h,
-                 bool along_x, const std::vector<float> (&in)[6], std::vector<float> (&out)[6]) {
+void filter_pass(const GuidePlanes& g, const std::vector<float>& kernel, int w, int h, bool along_x,
+                 const std::vector<float> (&in)[6], std::vector<float> (&out)[6]) {
   const int radius = static_cast<int>(kernel.size()) - 1;
   tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
     std::vector<float> sums(7 * static_cast<std::size_t>(w));
@@ -122,8 +122,32 @@ void filter_pass(const DenoiseScratch& g, const std::vector<float>& kernel, int 
 
 }  // namespace
 
+void GuidePlanes::assign(const std::vector<LightingGuide>& guide) {
+  const std::size_t n = guide.size();
+  surface.resize(n);
+  for (auto& plane : geometry) plane.resize(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                        surface[i] = guide[i].surface;
+                        for (int c = 0; c < 3; ++c) {
+                          geometry[c][i] = guide[i].normal[c];
+                          geometry[3 + c][i] = guide[i].position[c];
+                        }
+                      }
+                    });
+}
+
 void denoise_lighting(int width, int height, const std::vector<LightingGuide>& guide, int radius,
                       std::vector<PixelLight>& light, DenoiseScratch* scratch) {
+  DenoiseScratch local;
+  DenoiseScratch& s = scratch ? *scratch : local;
+  s.guide.assign(guide);
+  denoise_lighting(width, height, s.guide, radius, light, s);
+}
+
+void denoise_lighting(int width, int height, const GuidePlanes& guide, int radius,
+                      std::vector<PixelLight>& light, DenoiseScratch& s) {
   WHEELPOSE_CHECK(radius >= 0 && width >= 0 && height >= 0);
   const std::size_t n = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
   WHEELPOSE_CHECK(guide.size() == n && light.size() == n);
@@ -132,11 +156,7 @@ void denoise_lighting(int width, int height, const std::vector<LightingGuide>& g
   const float sigma = 0.5f * static_cast<float>(radius);
   for (int d = 0; d <= radius; ++d)
     kernel[d] = std::exp(-static_cast<float>(d * d) / (2 * sigma * sigma));
-  DenoiseScratch local;
-  DenoiseScratch& s = scratch ? *scratch : local;
-  s.surface.resize(n);
   for (int c = 0; c < 6; ++c) {
-    s.geometry[c].resize(n);
     s.light[c].resize(n);
     s.rows_done[c].resize(n);
   }
@@ -144,17 +164,14 @@ void denoise_lighting(int width, int height, const std::vector<LightingGuide>& g
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                        s.surface[i] = guide[i].surface;
                         for (int c = 0; c < 3; ++c) {
-                          s.geometry[c][i] = guide[i].normal[c];
-                          s.geometry[3 + c][i] = guide[i].position[c];
                           s.light[c][i] = light[i].diffuse[c];
                           s.light[3 + c][i] = light[i].specular[c];
                         }
                       }
                     });
-  filter_pass(s, kernel, width, height, true, s.light, s.rows_done);
-  filter_pass(s, kernel, width, height, false, s.rows_done, s.light);
+  filter_pass(guide, kernel, width, height, true, s.light, s.rows_done);
+  filter_pass(guide, kernel, width, height, false, s.rows_done, s.light);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i < r.end(); ++i) {

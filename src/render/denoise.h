@@ -21,10 +21,18 @@ struct PixelLight {
   float specular[3] = {0, 0, 0};
 };
 
+// The guide as planes, one array per component, which the smoothing and edge passes read with
+// branch-free (vectorisable) loops. Built once per frame and shared by both.
+struct GuidePlanes {
+  std::vector<int> surface;
+  std::vector<float> geometry[6];  // normal x, y, z, position x, y, z
+  void assign(const std::vector<LightingGuide>& guide);
+  std::size_t size() const { return surface.size(); }
+};
+
 // Working memory of denoise_lighting, kept by callers that denoise every frame.
 struct DenoiseScratch {
-  std::vector<int> surface;
-  std::vector<float> geometry[6];  // normal x, y, z, position x, y, z (one plane per component)
+  GuidePlanes guide;  // filled by the guide overload of denoise_lighting
   std::vector<float> light[6], rows_done[6];
 };
 
@@ -37,5 +45,8 @@ struct DenoiseScratch {
 // one plane per component, branch-free, so the compiler vectorises them.
 void denoise_lighting(int width, int height, const std::vector<LightingGuide>& guide, int radius,
                       std::vector<PixelLight>& light, DenoiseScratch* scratch = nullptr);
+// The same from guide planes already built (e.g. scratch.guide, shared with mark_edges).
+void denoise_lighting(int width, int height, const GuidePlanes& guide, int radius,
+                      std::vector<PixelLight>& light, DenoiseScratch& scratch);
 
 }  // namespace wheelpose::render

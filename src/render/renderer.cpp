@@ -329,9 +329,9 @@ struct Renderer::PixelLighting {
   std::vector<PixelLight> light;     // point lights and sky, mean over the pixel's light samples
   std::vector<Reuse> reuse;
   DenoiseScratch denoise_scratch;
-  std::vector<RandomStream> streams;              // per pixel, continued by later passes
-  std::vector<std::array<float, 3>> first_color;  // mean albedo or background of pass 1
-  std::vector<std::uint8_t> refine;               // pixels that take the remaining samples
+  std::vector<RandomStream> streams;  // per pixel, continued by later passes
+  std::vector<float> first_color[3];  // mean albedo or background of pass 1, a plane per channel
+  std::vector<std::uint8_t> refine;   // pixels that take the remaining samples
 };
 
 FrameBuffers Renderer::render(const RenderOptions& options) {
@@ -359,7 +359,7 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
   lighting.guide.resize(pixels);
   lighting.light.resize(pixels);
   lighting.reuse.resize(pixels);
-  lighting.first_color.resize(pixels);
+  for (auto& plane : lighting.first_color) plane.resize(pixels);
   if (lighting.streams.size() != pixels) lighting.streams.assign(pixels, RandomStream(0, {}));
   const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
   std::atomic<long long> trace_ns{0}, shade_ns{0}, rays{0};
@@ -377,6 +377,14 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
                         rays += n;
                       });
   };
+  // The guide is final after pass 1 (later passes keep sample 0's surface): its planes are
+  // built once, on first use, for edge marking and smoothing.
+  bool planes_built = false;
+  auto guide_planes = [&]() -> const GuidePlanes& {
+    if (!planes_built) lighting.denoise_scratch.guide.assign(lighting.guide);
+    planes_built = true;
+    return lighting.denoise_scratch.guide;
+  };
   const auto start = Clock::now();
   // Adaptive: every pixel takes its light samples, then only edge pixels the rest.
   const bool adaptive = options.adaptive_contrast >= 0 && scene_.camera.aperture_radius <= 0 &&
@@ -384,7 +392,7 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
   run_pass(0, adaptive ? options.light_samples : options.spp, nullptr);
   timings_.refined_fraction = 1.0;
   if (adaptive) {
-    mark_edges(w, h, lighting.guide, lighting.first_color, options.adaptive_contrast,
+    mark_edges(w, h, guide_planes(), lighting.first_color, options.adaptive_contrast,
                lighting.refine);
     // Slivers found per geometry in parallel, then drawn in geometry order.
     const scene::Projector projector(scene_.camera);
@@ -405,8 +413,10 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
   timings_.rays = rays;
 
   const auto denoise_start = Clock::now();
-  denoise_lighting(w, h, lighting.guide, options.denoise_radius, lighting.light,
-                   &lighting.denoise_scratch);
+  if (options.denoise_radius > 0) {
+    denoise_lighting(w, h, guide_planes(), options.denoise_radius, lighting.light,
+                     lighting.denoise_scratch);
+  }
   // Radiance = (Σ albedo of the reusing samples ⊙ lighting + their specular + samples lit on
   // their own) / samples taken.
   tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
@@ -852,7 +862,7 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
       const Eigen::Vector3f color = reuse_count[li] > 0
                                         ? Eigen::Vector3f(albedo_sum[li] / reuse_count[li])
                                         : Eigen::Vector3f(own[li] / sample_end);
-      lighting.first_color[i] = {color.x(), color.y(), color.z()};
+      for (int c = 0; c < 3; ++c) lighting.first_color[c][i] = color[c];
       const float inv = 1.0f / static_cast<float>(std::max(1, light_count[li]));
       LightingGuide& guide = lighting.guide[i];
       PixelLight& light = lighting.light[i];
