@@ -39,9 +39,9 @@ void BM_BuildClothedPerson(benchmark::State& state) {
   std::size_t bytes = 0;
   for (auto _ : state) {
     auto spec = wheelpose::body::sample_spec(seed++ % 64);
-    spec.proxies = {spec.params.gender >= 0.5 ? "clothes/male_casualsuit01"
-                                              : "clothes/female_casualsuit01",
-                    "clothes/shoes01", "hair/short02", "eyebrows/eyebrow001"};
+    spec.proxies = {
+        spec.params.gender >= 0.5 ? "clothes/male_casualsuit01" : "clothes/female_casualsuit01",
+        "clothes/shoes01", "hair/short02", "eyebrows/eyebrow001"};
     const auto person = wheelpose::body::build_person(d, spec);
     bytes = person.vertices.size() * sizeof(Eigen::Vector3f) * 2;
     for (const auto& g : person.garments)
@@ -53,5 +53,3 @@ void BM_BuildClothedPerson(benchmark::State& state) {
 BENCHMARK(BM_BuildClothedPerson)->Unit(benchmark::kMillisecond);
 
 }  // namespace
-
-BENCHMARK_MAIN();

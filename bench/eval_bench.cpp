@@ -114,5 +114,3 @@ void BM_LoadResults(benchmark::State& state) {
 BENCHMARK(BM_LoadResults)->Unit(benchmark::kMillisecond);
 
 }  // namespace
-
-BENCHMARK_MAIN();

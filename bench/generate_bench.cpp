@@ -12,7 +12,6 @@
 #include <fstream>
 #include <string>
 
-#include "core/allocator.h"
 #include "core/config.h"
 #include "generate/runner.h"
 #include "generate/scenario.h"
@@ -80,13 +79,3 @@ BENCHMARK(BM_GeneratePaperPreset)
     ->Unit(benchmark::kSecond);
 
 }  // namespace
-
-// The command's own heap tuning (core/allocator.h), so figures match `wheelpose`.
-int main(int argc, char** argv) {
-  wheelpose::retain_freed_memory();
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}

@@ -48,5 +48,3 @@ void BM_ConvertBatchWithExports(benchmark::State& state) {
 BENCHMARK(BM_ConvertBatchWithExports)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
-
-BENCHMARK_MAIN();

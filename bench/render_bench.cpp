@@ -12,7 +12,6 @@
 #include <filesystem>
 #include <string>
 
-#include "core/allocator.h"
 #include "core/random.h"
 #include "render/adaptive.h"
 #include "render/denoise.h"
@@ -286,13 +285,3 @@ void BM_MarkEdges(benchmark::State& state) {
 BENCHMARK(BM_MarkEdges)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
-
-// The command's own heap tuning (core/allocator.h), so figures match `wheelpose`.
-int main(int argc, char** argv) {
-  wheelpose::retain_freed_memory();
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}
