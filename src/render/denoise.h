@@ -32,7 +32,7 @@ struct GuidePlanes {
 
 // Working memory of denoise_lighting, kept by callers that denoise every frame.
 struct DenoiseScratch {
-  GuidePlanes guide;  // filled by the guide overload of denoise_lighting
+  GuidePlanes guide;  // used by the overload that takes a LightingGuide vector
   std::vector<float> light[6], rows_done[6];
 };
 

@@ -326,6 +326,7 @@ struct Renderer::PixelLighting {
     PixelLight sun;
   };
   std::vector<LightingGuide> guide;  // surface, normal and position of sample 0
+  GuidePlanes guide_planes;          // the same as planes, after pass 1
   std::vector<PixelLight> light;     // point lights and sky, mean over the pixel's light samples
   std::vector<Reuse> reuse;
   DenoiseScratch denoise_scratch;
@@ -377,22 +378,17 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
                         rays += n;
                       });
   };
-  // The guide is final after pass 1 (later passes keep sample 0's surface): its planes are
-  // built once, on first use, for edge marking and smoothing.
-  bool planes_built = false;
-  auto guide_planes = [&]() -> const GuidePlanes& {
-    if (!planes_built) lighting.denoise_scratch.guide.assign(lighting.guide);
-    planes_built = true;
-    return lighting.denoise_scratch.guide;
-  };
   const auto start = Clock::now();
   // Adaptive: every pixel takes its light samples, then only edge pixels the rest.
   const bool adaptive = options.adaptive_contrast >= 0 && scene_.camera.aperture_radius <= 0 &&
                         options.light_samples < options.spp;
   run_pass(0, adaptive ? options.light_samples : options.spp, nullptr);
+  // The guide is final after pass 1 (later passes keep sample 0's surface): its planes are
+  // built once, for edge marking and smoothing.
+  if (adaptive || options.denoise_radius > 0) lighting.guide_planes.assign(lighting.guide);
   timings_.refined_fraction = 1.0;
   if (adaptive) {
-    mark_edges(w, h, guide_planes(), lighting.first_color, options.adaptive_contrast,
+    mark_edges(w, h, lighting.guide_planes, lighting.first_color, options.adaptive_contrast,
                lighting.refine);
     // Slivers found per geometry in parallel, then drawn in geometry order.
     const scene::Projector projector(scene_.camera);
@@ -414,7 +410,7 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
 
   const auto denoise_start = Clock::now();
   if (options.denoise_radius > 0) {
-    denoise_lighting(w, h, guide_planes(), options.denoise_radius, lighting.light,
+    denoise_lighting(w, h, lighting.guide_planes, options.denoise_radius, lighting.light,
                      lighting.denoise_scratch);
   }
   // Radiance = (Σ albedo of the reusing samples ⊙ lighting + their specular + samples lit on
