@@ -56,6 +56,14 @@ class RandomStream {
   double normal(double mean, double stddev);
   bool bernoulli(double p);
 
+  // Where the stream stands, in 8 bytes, to store per pixel and continue from later with
+  // seek() on a stream of the same identity. A spare normal variate is not part of it.
+  std::uint64_t position() const { return state_; }
+  void seek(std::uint64_t position) {
+    state_ = position;
+    has_spare_normal_ = false;
+  }
+
  private:
   explicit RandomStream(std::uint64_t identity) : identity_(identity), state_(identity) {}
   std::uint64_t identity_;

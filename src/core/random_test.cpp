@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <set>
+#include <vector>
 
 namespace wheelpose {
 namespace {
@@ -43,6 +44,19 @@ TEST(RandomStream, ChildDependsOnIdentityNotPosition) {
   parent.next_u64();
   RandomStream child_after = parent.child({"y"});
   EXPECT_EQ(child_before.next_u64(), child_after.next_u64());
+}
+
+TEST(RandomStream, SeekToAPositionContinuesTheSequence) {
+  RandomStream stream(5, {"pixel", 12});
+  for (int i = 0; i < 7; ++i) stream.uniform01();
+  const std::uint64_t position = stream.position();
+  std::vector<std::uint64_t> rest;
+  for (int i = 0; i < 5; ++i) rest.push_back(stream.next_u64());
+  RandomStream resumed(5, {"pixel", 12});
+  resumed.seek(position);
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(resumed.next_u64(), rest[i]) << i;
+  // Identity is kept: a child of the resumed stream is the original's child.
+  EXPECT_EQ(resumed.child({"c"}).next_u64(), stream.child({"c"}).next_u64());
 }
 
 TEST(RandomStream, UniformMomentsMatch) {
