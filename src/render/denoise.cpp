@@ -122,10 +122,14 @@ void filter_pass(const GuidePlanes& g, const std::vector<float>& kernel, int w, 
 
 }  // namespace
 
-void GuidePlanes::assign(const std::vector<LightingGuide>& guide) {
-  const std::size_t n = guide.size();
+void GuidePlanes::resize(std::size_t n) {
   surface.resize(n);
   for (auto& plane : geometry) plane.resize(n);
+}
+
+void GuidePlanes::assign(const std::vector<LightingGuide>& guide) {
+  const std::size_t n = guide.size();
+  resize(n);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i < r.end(); ++i) {

@@ -27,6 +27,7 @@ struct GuidePlanes {
   std::vector<int> surface;
   std::vector<float> geometry[6];  // normal x, y, z, position x, y, z
   void assign(const std::vector<LightingGuide>& guide);
+  void resize(std::size_t n);
   std::size_t size() const { return surface.size(); }
 };
 

@@ -13,6 +13,7 @@
 #include <mutex>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <string>
 
 #include "core/error.h"
@@ -325,12 +326,12 @@ struct Renderer::PixelLighting {
     // noise-free, so sun shadows stay sharp (tracing it for every sample instead costs 25 %).
     PixelLight sun;
   };
-  std::vector<LightingGuide> guide;  // surface, normal and position of sample 0
-  GuidePlanes guide_planes;          // the same as planes, after pass 1
-  std::vector<PixelLight> light;     // point lights and sky, mean over the pixel's light samples
+  GuidePlanes guide;              // surface, normal and position of sample 0
+  std::vector<PixelLight> light;  // point lights and sky, mean over the pixel's light samples
   std::vector<Reuse> reuse;
   DenoiseScratch denoise_scratch;
-  std::vector<RandomStream> streams;  // per pixel, continued by later passes
+  // Per pixel, where its stream stood after pass 1: later passes continue from there.
+  std::vector<std::uint64_t> stream_positions;
   std::vector<float> first_color[3];  // mean albedo or background of pass 1, a plane per channel
   std::vector<std::uint8_t> refine;   // pixels that take the remaining samples
 };
@@ -346,11 +347,12 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
     throw Error("denoise radius must be between 0 and 16 pixels");
   }
   FrameBuffers out;
-  out.linear = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
-  out.depth = cv::Mat(h, w, CV_32F, cv::Scalar::all(0));
-  out.normals = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
-  out.instance = cv::Mat(h, w, CV_16U, cv::Scalar::all(0));
-  out.semantic = cv::Mat(h, w, CV_16U, cv::Scalar::all(0));
+  // Not cleared: pass 1 writes every pixel's ground truth and the composition every colour.
+  out.linear = cv::Mat(h, w, CV_32FC3);
+  out.depth = cv::Mat(h, w, CV_32F);
+  out.normals = cv::Mat(h, w, CV_32FC3);
+  out.instance = cv::Mat(h, w, CV_16U);
+  out.semantic = cv::Mat(h, w, CV_16U);
   // The decoupled-shading buffers (≈ 140 MB at 1280×720) come from a pool shared by all
   // renderers: allocating them afresh each frame made the kernel fault in and zero every page.
   static BufferPool<PixelLighting> pool;
@@ -358,10 +360,10 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
   PixelLighting& lighting = *pooled;
   const std::size_t pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
   lighting.guide.resize(pixels);
+  lighting.stream_positions.resize(pixels);
   lighting.light.resize(pixels);
   lighting.reuse.resize(pixels);
   for (auto& plane : lighting.first_color) plane.resize(pixels);
-  if (lighting.streams.size() != pixels) lighting.streams.assign(pixels, RandomStream(0, {}));
   const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
   std::atomic<long long> trace_ns{0}, shade_ns{0}, rays{0};
   auto run_pass = [&](int sample_begin, int sample_end, const std::uint8_t* refine) {
@@ -383,12 +385,10 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
   const bool adaptive = options.adaptive_contrast >= 0 && scene_.camera.aperture_radius <= 0 &&
                         options.light_samples < options.spp;
   run_pass(0, adaptive ? options.light_samples : options.spp, nullptr);
-  // The guide is final after pass 1 (later passes keep sample 0's surface): its planes are
-  // built once, for edge marking and smoothing.
-  if (adaptive || options.denoise_radius > 0) lighting.guide_planes.assign(lighting.guide);
+  // The guide is final after pass 1 (later passes keep sample 0's surface).
   timings_.refined_fraction = 1.0;
   if (adaptive) {
-    mark_edges(w, h, lighting.guide_planes, lighting.first_color, options.adaptive_contrast,
+    mark_edges(w, h, lighting.guide, lighting.first_color, options.adaptive_contrast,
                lighting.refine);
     // Slivers found per geometry in parallel, then drawn in geometry order.
     const scene::Projector projector(scene_.camera);
@@ -410,7 +410,7 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
 
   const auto denoise_start = Clock::now();
   if (options.denoise_radius > 0) {
-    denoise_lighting(w, h, lighting.guide_planes, options.denoise_radius, lighting.light,
+    denoise_lighting(w, h, lighting.guide, options.denoise_radius, lighting.light,
                      lighting.denoise_scratch);
   }
   // Radiance = (Σ albedo of the reusing samples ⊙ lighting + their specular + samples lit on
@@ -484,24 +484,28 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
   surface0.fill(-1);
   light_count.fill(0);
   reuse_count.fill(0);
-  auto pixel_of = [&](int p, int k, int& x, int& y) {
-    x = tile_x * kTile + (p % 2) * 4 + k % 4;
-    y = tile_y * kTile + (p / 2) * 2 + k / 4;
-  };
+  // The pixels this pass takes, packed into the first lanes (slot = offset in the tile), in
+  // 4×2 blocks' order: a later pass refines a few scattered pixels, and tracing them in full
+  // packets instead of the sparse 4×2 blocks they fall in takes a fraction of the packets.
+  std::array<std::uint8_t, kPixels> slot{};
   auto index_of = [&](int x, int y) { return static_cast<std::size_t>(y) * w + x; };
   int active = 0;
-  for (int p = 0; p < kPackets; ++p) {
-    for (int k = 0; k < 8; ++k) {
-      int x, y;
-      pixel_of(p, k, x, y);
-      valid[p][k] = (x < w && y < h && (!refine || refine[index_of(x, y)])) ? -1 : 0;
-      active += valid[p][k] != 0;
-    }
+  for (int block = 0; block < kPixels; ++block) {
+    const int p = block / 8, k = block % 8;
+    const int local = ((p / 2) * 2 + k / 4) * kTile + (p % 2) * 4 + k % 4;
+    const int x = tile_x * kTile + local % kTile, y = tile_y * kTile + local / kTile;
+    if (x < w && y < h && (!refine || refine[index_of(x, y)]))
+      slot[active++] = static_cast<std::uint8_t>(local);
   }
   if (active == 0) return;
+  for (int li = 0; li < kPixels; ++li) valid[li / 8][li % 8] = li < active ? -1 : 0;
+  auto pixel_of = [&](int p, int k, int& x, int& y) {
+    x = tile_x * kTile + slot[p * 8 + k] % kTile;
+    y = tile_y * kTile + slot[p * 8 + k] / kTile;
+  };
   // One stream per pixel, drawn from in sample order (and continued by later passes): what a
   // pixel draws depends only on its own hits, so the image does not depend on tiles or threads.
-  std::array<RandomStream*, kPixels> streams{};
+  std::array<std::optional<RandomStream>, kPixels> streams;
   const StreamKey pixel_key("pixel");
   for (int p = 0; p < kPackets; ++p) {
     for (int k = 0; k < 8; ++k) {
@@ -509,18 +513,19 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
       int x, y;
       pixel_of(p, k, x, y);
       const std::size_t i = index_of(x, y);
-      if (sample_begin == 0) lighting.streams[i] = RandomStream(scene_.seed, {pixel_key, i});
-      streams[p * 8 + k] = &lighting.streams[i];
+      const int li = p * 8 + k;
+      RandomStream& stream =
+          streams[li].emplace(scene_.seed, std::initializer_list<StreamKey>{pixel_key, i});
       if (sample_begin == 0) continue;
       // A later pass: carry on from what the earlier samples left.
+      stream.seek(lighting.stream_positions[i]);
       const PixelLighting::Reuse& r = lighting.reuse[i];
-      const LightingGuide& g = lighting.guide[i];
-      const int li = p * 8 + k;
+      const GuidePlanes& g = lighting.guide;
       own[li] = Eigen::Vector3f(r.own[0], r.own[1], r.own[2]);
       albedo_sum[li] = Eigen::Vector3f(r.albedo_sum[0], r.albedo_sum[1], r.albedo_sum[2]);
       reuse_count[li] = static_cast<int>(r.count);
-      surface0[li] = g.surface;
-      normal0[li] = Eigen::Vector3f(g.normal[0], g.normal[1], g.normal[2]);
+      surface0[li] = g.surface[i];
+      normal0[li] = Eigen::Vector3f(g.geometry[0][i], g.geometry[1][i], g.geometry[2][i]);
     }
   }
   RTCIntersectContext coherent;
@@ -563,7 +568,13 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
         int x, y;
         pixel_of(p, k, x, y);
         const RTCRayHit8& rh = hits[p];
-        if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) continue;
+        if (rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) {
+          out.depth.at<float>(y, x) = 0.0f;  // background: no depth, id 0, no normal
+          out.instance.at<std::uint16_t>(y, x) = 0;
+          out.semantic.at<std::uint16_t>(y, x) = 0;
+          out.normals.at<cv::Vec3f>(y, x) = cv::Vec3f(0, 0, 0);
+          continue;
+        }
         const Geometry& g = geometries_[rh.hit.geomID[k]];
         const Eigen::Vector3f d(rh.ray.dir_x[k], rh.ray.dir_y[k], rh.ray.dir_z[k]);
         out.depth.at<float>(y, x) = rh.ray.tfar[k] * d.dot(forward);
@@ -852,7 +863,8 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
       }
       reuse.count = static_cast<float>(reuse_count[li]);
       reuse.samples = static_cast<float>(sample_end);
-      if (sample_begin > 0) continue;  // the lighting and guide are pass 1's
+      if (sample_begin > 0) continue;  // the lighting, guide and stream positions are pass 1's
+      lighting.stream_positions[i] = streams[li]->position();
       // What edge detection compares: the mean albedo of the reusing samples, else the mean
       // radiance of the others (background).
       const Eigen::Vector3f color = reuse_count[li] > 0
@@ -860,12 +872,12 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
                                         : Eigen::Vector3f(own[li] / sample_end);
       for (int c = 0; c < 3; ++c) lighting.first_color[c][i] = color[c];
       const float inv = 1.0f / static_cast<float>(std::max(1, light_count[li]));
-      LightingGuide& guide = lighting.guide[i];
+      GuidePlanes& guide = lighting.guide;
       PixelLight& light = lighting.light[i];
-      guide.surface = surface0[li];
+      guide.surface[i] = surface0[li];
       for (int c = 0; c < 3; ++c) {
-        guide.normal[c] = normal0[li][c];
-        guide.position[c] = position0[li][c];
+        guide.geometry[c][i] = normal0[li][c];
+        guide.geometry[3 + c][i] = position0[li][c];
         light.diffuse[c] = diffuse[li][c] * inv;
         light.specular[c] = specular[li][c] * inv;
         reuse.sun.diffuse[c] = sun_diffuse[li][c] * inv;
