@@ -2,7 +2,8 @@
 // ≈ 40k triangles (subdivided capsules and a box as stand-ins for body and wheelchair), 25
 // textured occluders, a textured background wall, sun + 7 point lights and a sky — at 1 and
 // 4 spp, broken down into build, trace, shade, denoise, post and encode times (counters, in ms);
-// render_ms is the frame without the encoding; (c) the per-frame image passes alone:
+// render_ms is the frame without the encoding; BM_PaperFrameUnlit is the same frame with no
+// light at all, the floor under the lighting; (c) the per-frame image passes alone:
 // BM_Denoise (lighting smoothing) and BM_MarkEdges (adaptive anti-aliasing's edge marking).
 //
 // Run: build/<dir>/bench/bench_render [--benchmark_filter=...]
@@ -170,7 +171,7 @@ BENCHMARK(BM_RayThroughput)->Unit(benchmark::kMillisecond)->UseRealTime();
 // Whole frame: build, trace, shade, denoise, post, PNG encoding of all five buffers. Arguments:
 // samples per pixel, light samples per pixel (decoupled shading; = spp is brute force),
 // adaptive anti-aliasing (1 = on, the default; 0 = every pixel takes every sample).
-void BM_PaperFrame(benchmark::State& state) {
+void run_paper_frame(benchmark::State& state, const scene::Scene& scene) {
   const int spp = static_cast<int>(state.range(0));
   const int light_samples = static_cast<int>(state.range(1));
   const float adaptive_contrast =
@@ -179,11 +180,10 @@ void BM_PaperFrame(benchmark::State& state) {
   double build = 0, trace = 0, shade = 0, denoise = 0, post = 0, encode = 0, render = 0;
   long long rays = 0;
   std::size_t triangles = 0;
-  for (const auto& in : cached_scene().instances)
-    triangles += cached_scene().meshes[in.mesh].triangles.size();
+  for (const auto& in : scene.instances) triangles += scene.meshes[in.mesh].triangles.size();
   for (auto _ : state) {
     const auto start = std::chrono::steady_clock::now();
-    render::Renderer r(cached_scene());
+    render::Renderer r(scene);
     const render::FrameBuffers f = r.render(
         {.spp = spp, .light_samples = light_samples, .adaptive_contrast = adaptive_contrast});
     render +=
@@ -212,11 +212,31 @@ void BM_PaperFrame(benchmark::State& state) {
   state.counters["triangles"] = static_cast<double>(triangles);
   state.counters["refined"] = refined / n;  // fraction of pixels that took every sample
 }
+void BM_PaperFrame(benchmark::State& state) { run_paper_frame(state, cached_scene()); }
 BENCHMARK(BM_PaperFrame)
     ->Args({1, 1, 1})
     ->Args({4, 1, 1})
     ->Args({4, 1, 0})
     ->Args({4, 4, 0})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// The same frame with every light removed (no sun, point lights or sky): what a frame costs
+// before any light is sampled or any shadow ray traced (build, primary rays, surfaces and
+// textures, denoise, post). BM_PaperFrame minus this is the price of the lighting.
+void BM_PaperFrameUnlit(benchmark::State& state) {
+  static const scene::Scene unlit = [] {
+    scene::Scene s = cached_scene();
+    s.sun.enabled = false;
+    s.point_lights.clear();
+    s.environment.reset();
+    return s;
+  }();
+  run_paper_frame(state, unlit);
+}
+BENCHMARK(BM_PaperFrameUnlit)
+    ->Args({1, 1, 1})
+    ->Args({4, 1, 1})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
