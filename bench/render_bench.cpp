@@ -1,9 +1,9 @@
 // Renderer benchmarks: (a) ray throughput, (b) a frame like the paper's at 1280×720 — 8 people of
 // ≈ 40k triangles (subdivided capsules and a box as stand-ins for body and wheelchair), 25
 // textured occluders, a textured background wall, sun + 7 point lights and a sky — at 1 and
-// 4 spp, broken down into build, trace, shade, denoise, post and encode times (counters, in ms);
-// render_ms is the frame without the encoding; BM_PaperFrameUnlit is the same frame with no
-// light at all, the floor under the lighting; (c) the per-frame image passes alone:
+// 4 spp, broken down into build, trace, shade, edge marking, denoise, post and encode times
+// (counters, in ms); render_ms is the frame without the encoding; BM_PaperFrameUnlit is the same
+// frame with no light at all, the floor under the lighting; (c) the per-frame image passes alone:
 // BM_Denoise (lighting smoothing) and BM_MarkEdges (adaptive anti-aliasing's edge marking).
 //
 // Run: build/<dir>/bench/bench_render [--benchmark_filter=...]
@@ -177,7 +177,7 @@ void run_paper_frame(benchmark::State& state, const scene::Scene& scene) {
   const float adaptive_contrast =
       state.range(2) ? render::RenderOptions{}.adaptive_contrast : -1.0f;
   double refined = 0;
-  double build = 0, trace = 0, shade = 0, denoise = 0, post = 0, encode = 0, render = 0;
+  double build = 0, trace = 0, shade = 0, edges = 0, denoise = 0, post = 0, encode = 0, render = 0;
   long long rays = 0;
   std::size_t triangles = 0;
   for (const auto& in : scene.instances) triangles += scene.meshes[in.mesh].triangles.size();
@@ -195,6 +195,7 @@ void run_paper_frame(benchmark::State& state, const scene::Scene& scene) {
     build += r.build_ms();
     trace += r.timings().trace_ms;
     shade += r.timings().shade_ms;
+    edges += r.timings().edges_ms;
     denoise += r.timings().denoise_ms;
     post += r.timings().post_ms;
     rays += r.timings().rays;
@@ -204,6 +205,7 @@ void run_paper_frame(benchmark::State& state, const scene::Scene& scene) {
   state.counters["build_ms"] = build / n;
   state.counters["trace_ms"] = trace / n;
   state.counters["shade_ms"] = shade / n;
+  state.counters["edges_ms"] = edges / n;
   state.counters["denoise_ms"] = denoise / n;
   state.counters["post_ms"] = post / n;
   state.counters["render_ms"] = render / n;  // everything but the encoding

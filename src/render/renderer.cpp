@@ -387,7 +387,9 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
   run_pass(0, adaptive ? options.light_samples : options.spp, nullptr);
   // The guide is final after pass 1 (later passes keep sample 0's surface).
   timings_.refined_fraction = 1.0;
+  timings_.edges_ms = 0;
   if (adaptive) {
+    const auto edges_start = Clock::now();
     mark_edges(w, h, lighting.guide, lighting.first_color, options.adaptive_contrast,
                lighting.refine);
     // Slivers found per geometry in parallel, then drawn in geometry order.
@@ -400,9 +402,11 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
     for (const auto& found : slivers) mark_slivers(found, w, h, lighting.refine);
     const auto marked = std::count(lighting.refine.begin(), lighting.refine.end(), 1);
     timings_.refined_fraction = static_cast<double>(marked) / static_cast<double>(pixels);
+    timings_.edges_ms = ms_since(edges_start);
     run_pass(options.light_samples, options.spp, lighting.refine.data());
   }
-  const double wall = ms_since(start);
+  // Trace and shade share the passes' wall time in proportion to their busy time.
+  const double wall = ms_since(start) - timings_.edges_ms;
   const double busy = std::max(1.0, static_cast<double>(trace_ns + shade_ns));
   timings_.trace_ms = wall * static_cast<double>(trace_ns) / busy;
   timings_.shade_ms = wall * static_cast<double>(shade_ns) / busy;

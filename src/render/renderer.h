@@ -66,6 +66,7 @@ struct FrameBuffers {
 struct RenderTimings {
   double trace_ms = 0;    // primary rays
   double shade_ms = 0;    // shading incl. shadow and environment rays
+  double edges_ms = 0;    // adaptive anti-aliasing: finding the pixels to refine
   double denoise_ms = 0;  // lighting smoothing and compositing
   double post_ms = 0;
   double refined_fraction = 1;  // of pixels that took every sample (adaptive anti-aliasing)
