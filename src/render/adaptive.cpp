@@ -40,8 +40,9 @@ PlanesAt planes_at(const GuidePlanes& g, const std::vector<float> (&color)[3], s
 // For `count` pixel pairs (a[x], b[x]), sets `bit` in bits[x] when they lie on different sides
 // of an edge: another surface, a colour step above `contrast`, or, on a lit surface, normals
 // more than ≈ 18° apart or either point more than 30° off the other's tangent plane. Written
-// without branches so the compiler can vectorise it.
-void edge_bits(int count, const PlanesAt& a, const PlanesAt& b, float contrast, int bit,
+// without branches so the compiler can vectorise it; cloned for AVX2 like the denoise loop
+// (independent lanes, no FMA: both clones give the same bits).
+__attribute__((target_clones("avx2", "default"))) void edge_bits(int count, const PlanesAt& a, const PlanesAt& b, float contrast, int bit,
                std::uint8_t* __restrict bits) {
   constexpr float kPlane2 = kMaxPlaneSine * kMaxPlaneSine;
   for (int x = 0; x < count; ++x) {
