@@ -8,6 +8,7 @@
 #include <limits>
 #include <opencv2/imgproc.hpp>
 
+#include "core/cpu_clones.h"
 #include "core/error.h"
 
 namespace wheelpose::render {
@@ -42,8 +43,8 @@ PlanesAt planes_at(const GuidePlanes& g, const std::vector<float> (&color)[3], s
 // more than ≈ 18° apart or either point more than 30° off the other's tangent plane. Written
 // without branches so the compiler can vectorise it; cloned for AVX2 like the denoise loop
 // (independent lanes, no FMA: both clones give the same bits).
-__attribute__((target_clones("avx2", "default"))) void edge_bits(int count, const PlanesAt& a, const PlanesAt& b, float contrast, int bit,
-               std::uint8_t* __restrict bits) {
+WHEELPOSE_AVX2_CLONE void edge_bits(int count, const PlanesAt& a, const PlanesAt& b, float contrast,
+                                    int bit, std::uint8_t* __restrict bits) {
   constexpr float kPlane2 = kMaxPlaneSine * kMaxPlaneSine;
   for (int x = 0; x < count; ++x) {
     const int colour = static_cast<int>(std::abs(a.color[0][x] - b.color[0][x]) > contrast) |

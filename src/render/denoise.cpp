@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/cpu_clones.h"
 #include "core/error.h"
 
 namespace wheelpose::render {
@@ -42,7 +43,7 @@ RowPlanes row_planes(const GuidePlanes& g, const std::vector<float> (&light)[6],
 // no branches let the compiler vectorise the loop. Cloned for AVX2 (8 lanes, chosen at load time
 // on CPUs that have it): lanes are independent and no FMA is formed, so both clones give the
 // same bits.
-__attribute__((target_clones("avx2", "default"))) void accumulate_tap(
+WHEELPOSE_AVX2_CLONE void accumulate_tap(
     int count, float kernel_weight, const int* __restrict c_surface, const float* __restrict nx,
     const float* __restrict ny, const float* __restrict nz, const float* __restrict px,
     const float* __restrict py, const float* __restrict pz, const int* __restrict q_surface,
