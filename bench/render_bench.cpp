@@ -168,7 +168,8 @@ void BM_RayThroughput(benchmark::State& state) {
 }
 BENCHMARK(BM_RayThroughput)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// Whole frame: build, trace, shade, denoise, post, PNG encoding of all five buffers. Arguments:
+// Whole frame: build, trace, shade, edge marking, denoise, post, PNG encoding of all five
+// buffers. Arguments:
 // samples per pixel, light samples per pixel (decoupled shading; = spp is brute force),
 // adaptive anti-aliasing (1 = on, the default; 0 = every pixel takes every sample).
 void run_paper_frame(benchmark::State& state, const scene::Scene& scene) {
@@ -225,7 +226,7 @@ BENCHMARK(BM_PaperFrame)
 
 // The same frame with every light removed (no sun, point lights or sky): what a frame costs
 // before any light is sampled or any shadow ray traced (build, primary rays, surfaces and
-// textures, denoise, post). BM_PaperFrame minus this is the price of the lighting.
+// textures, edge marking, denoise, post). BM_PaperFrame minus this is the price of the lighting.
 void BM_PaperFrameUnlit(benchmark::State& state) {
   static const scene::Scene unlit = [] {
     scene::Scene s = cached_scene();
