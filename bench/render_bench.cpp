@@ -169,9 +169,8 @@ void BM_RayThroughput(benchmark::State& state) {
 BENCHMARK(BM_RayThroughput)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Whole frame: build, trace, shade, edge marking, denoise, post, PNG encoding of all five
-// buffers. Arguments:
-// samples per pixel, light samples per pixel (decoupled shading; = spp is brute force),
-// adaptive anti-aliasing (1 = on, the default; 0 = every pixel takes every sample).
+// buffers. Arguments: samples per pixel, light samples per pixel (decoupled shading; = spp is
+// brute force), adaptive anti-aliasing (1 = on, the default; 0 = every pixel takes every sample).
 void run_paper_frame(benchmark::State& state, const scene::Scene& scene) {
   const int spp = static_cast<int>(state.range(0));
   const int light_samples = static_cast<int>(state.range(1));
