@@ -3,14 +3,17 @@
 // textured occluders, a textured background wall, sun + 7 point lights and a sky — at 1 and
 // 4 spp, broken down into build, trace, shade, edge marking, denoise, post and encode times
 // (counters, in ms); render_ms is the frame without the encoding; BM_PaperFrameUnlit is the same
-// frame with no light at all, the floor under the lighting; (c) the per-frame image passes alone:
+// frame with no light at all, the floor under the lighting; BM_PaperFrameError is the frame's error
+// against a 64-spp reference; (c) the per-frame image passes alone:
 // BM_Denoise (lighting smoothing) and BM_MarkEdges (adaptive anti-aliasing's edge marking).
 //
 // Run: build/<dir>/bench/bench_render [--benchmark_filter=...]
 
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <filesystem>
+#include <opencv2/imgproc.hpp>
 #include <string>
 
 #include "core/random.h"
@@ -239,6 +242,48 @@ void BM_PaperFrameUnlit(benchmark::State& state) {
 BENCHMARK(BM_PaperFrameUnlit)
     ->Args({1, 1, 1})
     ->Args({4, 1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// Error of the frame against a reference (64 samples per pixel, each one lit, no smoothing;
+// rendered once, ≈ 20 s): RMSE of the linear colour relative to the reference's mean, per pixel
+// and over 9×9 means (the low-frequency mottling smoothing leaves). A change that trades rays
+// against noise shows both sides: BM_PaperFrame gives the time, this the error. Arguments as
+// BM_PaperFrame's.
+void BM_PaperFrameError(benchmark::State& state) {
+  static const cv::Mat reference =
+      render::Renderer(cached_scene())
+          .render({.spp = 64, .light_samples = 64, .denoise_radius = 0, .post = false})
+          .linear;
+  const int spp = static_cast<int>(state.range(0));
+  const int light_samples = static_cast<int>(state.range(1));
+  const float adaptive_contrast =
+      state.range(2) ? render::RenderOptions{}.adaptive_contrast : -1.0f;
+  render::Renderer r(cached_scene());
+  cv::Mat frame;
+  for (auto _ : state) {
+    frame = r.render({.spp = spp,
+                      .light_samples = light_samples,
+                      .adaptive_contrast = adaptive_contrast,
+                      .post = false})
+                .linear;
+  }
+  auto relative_rmse = [&](const cv::Mat& a, const cv::Mat& b) {
+    cv::Mat d = a - b;
+    const cv::Scalar mean_sq = cv::mean(d.mul(d)), ref_mean = cv::mean(reference);
+    return std::sqrt((mean_sq[0] + mean_sq[1] + mean_sq[2]) / 3.0) /
+           ((ref_mean[0] + ref_mean[1] + ref_mean[2]) / 3.0);
+  };
+  cv::Mat frame_9, reference_9;
+  cv::blur(frame, frame_9, cv::Size(9, 9));
+  cv::blur(reference, reference_9, cv::Size(9, 9));
+  state.counters["rel_rmse"] = relative_rmse(frame, reference);
+  state.counters["rel_rmse_9x9"] = relative_rmse(frame_9, reference_9);
+}
+BENCHMARK(BM_PaperFrameError)
+    ->Args({1, 1, 1})
+    ->Args({4, 1, 1})
+    ->Args({4, 4, 0})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
