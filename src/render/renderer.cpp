@@ -20,6 +20,7 @@
 #include "core/random.h"
 #include "render/adaptive.h"
 #include "render/post.h"
+#include "render/strata.h"
 
 namespace wheelpose::render {
 
@@ -465,6 +466,8 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
   Eigen::Vector3f sun_u, sun_v;
   basis(sun_dir, sun_u, sun_v);
   const bool env_on = scene_.environment.has_value();
+  // The sun cone, the light choice and the sky direction are stratified across pixels.
+  const ScreenStrata strata(scene_.seed);
   const float pixel_angle = 2.0f * tan_half / static_cast<float>(h);  // radians per pixel
 
   constexpr int kPixels = kTile * kTile;
@@ -621,6 +624,10 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
   constexpr float kReuseNormalCos = 0.95f;
   for (int s = sample_begin; s < sample_end; ++s) {
     const auto shade_start = Clock::now();
+    // A tile lies inside one strata block, so one block serves every pixel of it; made when a
+    // pixel first samples the lights (in later passes few do).
+    static_assert(ScreenStrata::kBlock % kTile == 0);
+    std::optional<ScreenStrata::Block> strata_block;
     for (int p = 0; p < kPackets; ++p) {
       for (int k = 0; k < 8; ++k) {
         if (!valid[p][k]) continue;
@@ -705,6 +712,9 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
         }
         into_pixel[k] = reuse;
         RandomStream& rng = *streams[li];
+        int px, py;
+        pixel_of(p, k, px, py);
+        if (!strata_block) strata_block = strata.block(tile_x * kTile, tile_y * kTile, s);
         const float eps = 1e-4f * (1.0f + pos.cwiseAbs().maxCoeff());
         const Eigen::Vector3f origin = pos + eps * ng;
         // Light × cos, split into the part the albedo scales and the specular part.
@@ -720,9 +730,9 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
         };
         if (sun_on) {
           // Uniform direction in the sun's cone (soft shadows).
-          const float ct = 1.0f - static_cast<float>(rng.uniform01()) * (1.0f - sun_cos_max);
-          const float st = std::sqrt(std::max(0.0f, 1 - ct * ct)),
-                      ph = 2 * kPi * static_cast<float>(rng.uniform01());
+          const auto [r1, r2] = strata_block->point(px, py, 0);
+          const float ct = 1.0f - r1 * (1.0f - sun_cos_max);
+          const float st = std::sqrt(std::max(0.0f, 1 - ct * ct)), ph = 2 * kPi * r2;
           // Unit by construction (orthonormal basis, ct² + st² = 1): no normalisation.
           const Eigen::Vector3f l =
               ct * sun_dir + st * std::cos(ph) * sun_u + st * std::sin(ph) * sun_v;
@@ -738,7 +748,7 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
           // unshadowed contribution here (power / distance² × a floored cosine, so every light
           // keeps a chance and the estimate stays unbiased); far and back-facing lights then
           // rarely waste the sample, which removes most of the speckle. More lights: by power.
-          const float pick = static_cast<float>(rng.uniform01());
+          const auto [pick, light_z] = strata_block->point(px, py, 1);
           const int on = static_cast<int>(lights_on_.size());
           int jj = 0;
           float prob = 0;
@@ -763,7 +773,7 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
             prob = light_cdf_[jj] - (jj > 0 ? light_cdf_[jj - 1] : 0.0f);
           }
           const auto& light = scene_.point_lights[lights_on_[jj]];
-          const float z = 1.0f - 2.0f * static_cast<float>(rng.uniform01());
+          const float z = 1.0f - 2.0f * light_z;
           const float ph = 2 * kPi * static_cast<float>(rng.uniform01());
           const float rr = std::sqrt(std::max(0.0f, 1 - z * z));
           const Eigen::Vector3f q =
@@ -788,8 +798,7 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
           // when the bright part is behind the surface); pdf = the mixture's, so either choice
           // gives albedo / π × L × cos / pdf.
           const float r0 = static_cast<float>(rng.uniform01());
-          const float r1 = static_cast<float>(rng.uniform01()),
-                      r2 = static_cast<float>(rng.uniform01());
+          const auto [r1, r2] = strata_block->point(px, py, 2);
           Eigen::Vector3f l;
           if (r0 < 0.5f) {
             float ignored = 0;
@@ -811,8 +820,7 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
           }
         } else if (env_on) {
           // Uniform sky: a cosine-weighted direction; the estimator is albedo × L_env.
-          const float r1 = static_cast<float>(rng.uniform01()),
-                      r2 = static_cast<float>(rng.uniform01());
+          const auto [r1, r2] = strata_block->point(px, py, 2);
           Eigen::Vector3f bu, bv;
           basis(n, bu, bv);
           const float rad = std::sqrt(r1), ph = 2 * kPi * r2;
