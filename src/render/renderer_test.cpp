@@ -244,7 +244,7 @@ TEST(Renderer, DecoupledShadingMatchesBruteForceWithLessNoise) {
 }
 
 // Light samples are stratified across pixels (render/strata.h), so the mean of an aligned 8×8
-// block of one-sample, unsmoothed lighting lies far closer to the converged value than the mean
+// block of one-sample, unsmoothed lighting lies closer to the converged value than the mean
 // of 64 independent samples: with those, the squared error of a block mean would be about the
 // mean squared error of a pixel / 64 (measured: 1.00 of it with white-noise samples, 0.40 with
 // the strata).
