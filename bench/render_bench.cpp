@@ -171,14 +171,21 @@ void BM_RayThroughput(benchmark::State& state) {
 }
 BENCHMARK(BM_RayThroughput)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// The frame benchmarks' arguments: samples per pixel, light samples per pixel (decoupled
+// shading; = spp is brute force), adaptive anti-aliasing (1 = on, the default; 0 = every pixel
+// takes every sample).
+render::RenderOptions frame_options(const benchmark::State& state) {
+  render::RenderOptions options;
+  options.spp = static_cast<int>(state.range(0));
+  options.light_samples = static_cast<int>(state.range(1));
+  if (!state.range(2)) options.adaptive_contrast = -1.0f;
+  return options;
+}
+
 // Whole frame: build, trace, shade, edge marking, denoise, post, PNG encoding of all five
-// buffers. Arguments: samples per pixel, light samples per pixel (decoupled shading; = spp is
-// brute force), adaptive anti-aliasing (1 = on, the default; 0 = every pixel takes every sample).
+// buffers.
 void run_paper_frame(benchmark::State& state, const scene::Scene& scene) {
-  const int spp = static_cast<int>(state.range(0));
-  const int light_samples = static_cast<int>(state.range(1));
-  const float adaptive_contrast =
-      state.range(2) ? render::RenderOptions{}.adaptive_contrast : -1.0f;
+  const render::RenderOptions options = frame_options(state);
   double refined = 0;
   double build = 0, trace = 0, shade = 0, edges = 0, denoise = 0, post = 0, encode = 0, render = 0;
   long long rays = 0;
@@ -187,8 +194,7 @@ void run_paper_frame(benchmark::State& state, const scene::Scene& scene) {
   for (auto _ : state) {
     const auto start = std::chrono::steady_clock::now();
     render::Renderer r(scene);
-    const render::FrameBuffers f = r.render(
-        {.spp = spp, .light_samples = light_samples, .adaptive_contrast = adaptive_contrast});
+    const render::FrameBuffers f = r.render(options);
     render +=
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     const auto t0 = std::chrono::steady_clock::now();
@@ -255,24 +261,15 @@ void BM_PaperFrameError(benchmark::State& state) {
       render::Renderer(cached_scene())
           .render({.spp = 64, .light_samples = 64, .denoise_radius = 0, .post = false})
           .linear;
-  const int spp = static_cast<int>(state.range(0));
-  const int light_samples = static_cast<int>(state.range(1));
-  const float adaptive_contrast =
-      state.range(2) ? render::RenderOptions{}.adaptive_contrast : -1.0f;
+  render::RenderOptions options = frame_options(state);
+  options.post = false;
   render::Renderer r(cached_scene());
   cv::Mat frame;
-  for (auto _ : state) {
-    frame = r.render({.spp = spp,
-                      .light_samples = light_samples,
-                      .adaptive_contrast = adaptive_contrast,
-                      .post = false})
-                .linear;
-  }
+  for (auto _ : state) frame = r.render(options).linear;
+  const cv::Scalar ref_mean = cv::mean(reference);
   auto relative_rmse = [&](const cv::Mat& a, const cv::Mat& b) {
-    cv::Mat d = a - b;
-    const cv::Scalar mean_sq = cv::mean(d.mul(d)), ref_mean = cv::mean(reference);
-    return std::sqrt((mean_sq[0] + mean_sq[1] + mean_sq[2]) / 3.0) /
-           ((ref_mean[0] + ref_mean[1] + ref_mean[2]) / 3.0);
+    const double rmse = cv::norm(a, b, cv::NORM_L2) / std::sqrt(static_cast<double>(a.total() * 3));
+    return rmse / ((ref_mean[0] + ref_mean[1] + ref_mean[2]) / 3.0);
   };
   cv::Mat frame_9, reference_9;
   cv::blur(frame, frame_9, cv::Size(9, 9));
