@@ -44,3 +44,26 @@ function(wheelpose_test name)
     WHEELPOSE_BINARY="${CMAKE_BINARY_DIR}/wheelpose")
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 600)
 endfunction()
+
+# wheelpose_isa_tests(TARGET FILTER) runs TARGET's tests that match the GoogleTest FILTER once
+# more per x86-64 ISA, as a CPU with only that ISA would: WHEELPOSE_EMBREE_CONFIG=isa=<isa> caps
+# Embree and our AVX2 loops, OPENCV_CPU_DISABLE caps OpenCV's dispatched kernels (OpenCV reads
+# it before main, so only the environment can). On a CPU without that ISA the binary skips every
+# test (core/isa_test_environment.h) and CTest reports the run as skipped.
+function(wheelpose_isa_tests target filter)
+  if(NOT WHEELPOSE_BUILD_TESTS OR NOT CMAKE_SYSTEM_PROCESSOR MATCHES "x86_64|AMD64")
+    return()
+  endif()
+  set(opencv_off_sse4.2 "AVX512-SKX,AVX512F,AVX2,FMA3,AVX,FP16")
+  set(opencv_off_avx "AVX512-SKX,AVX512F,AVX2,FMA3")
+  set(opencv_off_avx2 "AVX512-SKX,AVX512F")
+  set(opencv_off_avx512 "")
+  foreach(isa sse4.2 avx avx2 avx512)
+    add_test(NAME ${target}.isa_${isa} COMMAND ${target} --gtest_filter=${filter})
+    set_tests_properties(${target}.isa_${isa} PROPERTIES
+      ENVIRONMENT "WHEELPOSE_EMBREE_CONFIG=isa=${isa};OPENCV_CPU_DISABLE=${opencv_off_${isa}}"
+      SKIP_REGULAR_EXPRESSION "but this CPU does not have it"
+      LABELS isa
+      TIMEOUT 900)
+  endforeach()
+endfunction()

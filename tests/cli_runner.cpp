@@ -10,14 +10,16 @@
 
 namespace wheelpose::testing {
 
-CliResult run_wheelpose(const std::string& args) {
-  const std::string command = std::string(WHEELPOSE_BINARY) + " " + args + " 2>&1";
+CliResult run_wheelpose(const std::string& args, const std::string& env) {
+  const std::string command = (env.empty() ? "" : "env " + env + " ") +
+                              std::string(WHEELPOSE_BINARY) + " " + args + " 2>&1";
   CliResult result;
   FILE* pipe = ::popen(command.c_str(), "r");
   if (!pipe) return result;
   std::array<char, 4096> buffer{};
   std::size_t n = 0;
-  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
+    result.output.append(buffer.data(), n);
   const int status = ::pclose(pipe);
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;

@@ -11,8 +11,9 @@ struct CliResult {
   std::string output;  // stdout and stderr interleaved
 };
 
-// `args` is appended to the binary path as shell words (quote paths yourself if needed).
-CliResult run_wheelpose(const std::string& args);
+// `args` is appended to the binary path as shell words (quote paths yourself if needed);
+// `env`, shell words of VAR=value, is set for that run only.
+CliResult run_wheelpose(const std::string& args, const std::string& env = "");
 
 // A fresh empty directory under the system temp dir, unique per test.
 std::filesystem::path fresh_temp_dir(const std::string& name);

@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -16,6 +18,8 @@
 #include <vector>
 
 #include "cli_runner.h"
+#include "core/cpu_isa.h"
+#include "core/isa_test_environment.h"
 
 namespace {
 
@@ -61,7 +65,7 @@ std::map<std::string, std::string> tree(const fs::path& dir) {
 }
 
 const std::vector<double> kTolerance = {0.15, 0.033, 0.033, 0.05, 0.05, 0.185, 0.185, 0.15, 0.15,
-                                        0.15, 0.15, 0.21, 0.21, 0.15, 0.15, 0.15, 0.15};
+                                        0.15, 0.15,  0.21,  0.21, 0.15, 0.15,  0.15,  0.15};
 
 TEST(GenerateCli, LabelsAgreeWithTheGroundTruthMaps) {
   const fs::path dir = fresh_temp_dir("generate_labels");
@@ -76,8 +80,8 @@ TEST(GenerateCli, LabelsAgreeWithTheGroundTruthMaps) {
   for (const json& a : coco["annotations"]) {
     const json& im = images.at(a["image_id"].get<int>());
     const std::string stem = im["file_name"].get<std::string>().substr(0, 6);
-    const cv::Mat instance =
-        cv::imread((dir / "out" / "maps" / (stem + "_instance.png")).string(), cv::IMREAD_UNCHANGED);
+    const cv::Mat instance = cv::imread((dir / "out" / "maps" / (stem + "_instance.png")).string(),
+                                        cv::IMREAD_UNCHANGED);
     const cv::Mat depth =
         cv::imread((dir / "out" / "maps" / (stem + "_depth.png")).string(), cv::IMREAD_UNCHANGED);
     ASSERT_FALSE(instance.empty());
@@ -116,7 +120,8 @@ TEST(GenerateCli, LabelsAgreeWithTheGroundTruthMaps) {
       EXPECT_NEAR(cy - fy * Y / -Z, y, 0.5);
       // Depth map (millimetres) at the keypoint's pixel against keypoint depth and tolerance;
       // 1.5 mm covers the map's rounding.
-      const double surface = depth.at<std::uint16_t>(static_cast<int>(y), static_cast<int>(x)) / 1000.0;
+      const double surface =
+          depth.at<std::uint16_t>(static_cast<int>(y), static_cast<int>(x)) / 1000.0;
       const double limit = -Z - kTolerance[k] * scale;
       if (v == 2) {
         EXPECT_TRUE(surface == 0 || surface >= limit - 0.0015) << "keypoint " << k;
@@ -157,6 +162,102 @@ TEST(GenerateCli, SameBytesWhateverTheThreadCount) {
   for (const auto& [name, bytes] : one) EXPECT_TRUE(two.at(name) == bytes) << name;
 }
 
+// What OPENCV_CPU_DISABLE must say for OpenCV to dispatch as on a CPU whose best ISA is `isa`
+// (kept in step with wheelpose_isa_tests in cmake/WheelposeTargets.cmake).
+std::string opencv_cap(wheelpose::Isa isa) {
+  switch (isa) {
+    case wheelpose::Isa::kSse42:
+      return "AVX512-SKX,AVX512F,AVX2,FMA3,AVX,FP16";
+    case wheelpose::Isa::kAvx:
+      return "AVX512-SKX,AVX512F,AVX2,FMA3";
+    case wheelpose::Isa::kAvx2:
+      return "AVX512-SKX,AVX512F";
+    case wheelpose::Isa::kAvx512:
+      return "";
+  }
+  return "";
+}
+
+// Embree's SSE4.2 and AVX kernels compute a hit alike (measured); its AVX2 and AVX-512 kernels
+// are built with fused multiply-adds and each their own instruction sequence, so a hit's
+// distance and barycentrics may differ in the last bit between these three families.
+int kernel_family(wheelpose::Isa isa) { return std::max(0, static_cast<int>(isa) - 1); }
+
+// Files whose values may move by one unit between kernel families: colour, depth, normals.
+bool follows_hit_distance(const std::string& path) {
+  return path.starts_with("images/") || path.ends_with("_depth.png") ||
+         path.ends_with("_normals.png");
+}
+
+// Run as each ISA this CPU has (Embree's kernels, our AVX2 loops and OpenCV's dispatch all
+// capped): within a kernel family every file is the same bytes; across them labels, masks and
+// instance/semantic maps are, and images, depth and normals differ by at most one level in a
+// few values.
+TEST(GenerateCli, SameBytesOnEveryIsa) {
+  const auto dir = fresh_temp_dir("generate_isa");
+  const fs::path config = write_scenario(dir);
+  const std::vector<wheelpose::Isa> isas = wheelpose::isas_on_this_cpu();
+  ASSERT_FALSE(isas.empty());
+  std::map<int, std::pair<std::string, std::map<std::string, std::string>>> family_first;
+  for (wheelpose::Isa isa : isas) {
+    const std::string name = wheelpose::isa_name(isa);
+    const fs::path out = dir / name;
+    const auto r =
+        run_wheelpose(generate_args(config, out, 3), "WHEELPOSE_EMBREE_CONFIG=isa=" + name +
+                                                         " OPENCV_CPU_DISABLE=" + opencv_cap(isa));
+    ASSERT_EQ(r.exit_code, 0) << name << ": " << r.output;
+    const auto files = tree(out);
+    ASSERT_GT(files.size(), 3u) << name;
+    for (const auto& [family, first] : family_first) {
+      const bool same_family = family == kernel_family(isa);
+      ASSERT_EQ(files.size(), first.second.size()) << name;
+      for (const auto& [path, bytes] : first.second) {
+        ASSERT_TRUE(files.count(path)) << path << " missing for " << name;
+        if (same_family || !follows_hit_distance(path)) {
+          EXPECT_TRUE(files.at(path) == bytes)
+              << path << " differs between " << first.first << " and " << name;
+          continue;
+        }
+        const cv::Mat a = cv::imread((dir / first.first / path).string(), cv::IMREAD_UNCHANGED);
+        const cv::Mat b = cv::imread((out / path).string(), cv::IMREAD_UNCHANGED);
+        ASSERT_EQ(a.size(), b.size()) << path;
+        cv::Mat diff;
+        cv::absdiff(a, b, diff);
+        double largest = 0;
+        cv::minMaxLoc(diff.reshape(1), nullptr, &largest);
+        const double share = static_cast<double>(cv::countNonZero(diff.reshape(1))) /
+                             static_cast<double>(diff.total() * diff.channels());
+        EXPECT_LE(largest, 1.0) << path << " between " << first.first << " and " << name;
+        EXPECT_LE(share, 0.005) << path << " between " << first.first << " and " << name;
+      }
+    }
+    family_first.try_emplace(kernel_family(isa), name, files);
+  }
+  if (isas.size() < 4) {
+    std::cout << "[ NOTE ] this CPU has ISAs up to " << wheelpose::isa_name(isas.back())
+              << "; higher ones were not compared\n";
+  }
+}
+
+// Asking Embree for an ISA the CPU lacks, or for a setting it does not know, is one line and
+// exit 2, not a crash or a silently ignored setting.
+TEST(GenerateCli, BadEmbreeConfigGivesOneClearLine) {
+  const auto dir = fresh_temp_dir("generate_bad_isa");
+  const fs::path config = write_scenario(dir);
+  auto r = run_wheelpose(generate_args(config, dir / "o", 1), "WHEELPOSE_EMBREE_CONFIG=isa=avx3");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("WHEELPOSE_EMBREE_CONFIG: unknown isa 'avx3'"), std::string::npos)
+      << r.output;
+  r = run_wheelpose(generate_args(config, dir / "o2", 1), "WHEELPOSE_EMBREE_CONFIG=thread=2");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("'thread=2' is not an Embree setting"), std::string::npos) << r.output;
+  if (!wheelpose::cpu_has(wheelpose::Isa::kAvx512)) {
+    r = run_wheelpose(generate_args(config, dir / "o3", 1), "WHEELPOSE_EMBREE_CONFIG=isa=avx512");
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("but this CPU does not have it"), std::string::npos) << r.output;
+  }
+}
+
 TEST(GenerateCli, MergedShardsEqualOneRun) {
   const fs::path dir = fresh_temp_dir("generate_shards");
   const fs::path config = write_scenario(dir);
@@ -164,7 +265,8 @@ TEST(GenerateCli, MergedShardsEqualOneRun) {
   std::string shards;
   for (int i = 0; i < 3; ++i) {
     const fs::path out = dir / ("shard" + std::to_string(i));
-    const auto r = run_wheelpose(generate_args(config, out, 5, "--shard " + std::to_string(i) + "/3"));
+    const auto r =
+        run_wheelpose(generate_args(config, out, 5, "--shard " + std::to_string(i) + "/3"));
     ASSERT_EQ(r.exit_code, 0) << r.output;
     shards += " " + (out / "annotations.json").string();
     for (const auto& e : fs::directory_iterator(out / "images")) {
@@ -198,13 +300,15 @@ TEST(GenerateCli, KilledAndResumedRunsWriteTheSameBytes) {
   EXPECT_GE(kills, 2);
   const auto clean = tree(dir / "clean"), killed = tree(dir / "killed");
   EXPECT_EQ(clean.size(), killed.size());
-  for (const auto& [name, bytes] : clean) EXPECT_TRUE(killed.count(name) && killed.at(name) == bytes) << name;
+  for (const auto& [name, bytes] : clean)
+    EXPECT_TRUE(killed.count(name) && killed.at(name) == bytes) << name;
 }
 
 TEST(GenerateCli, ClipsFromARankingRestrictTheMotions) {
   const fs::path dir = fresh_temp_dir("generate_ranking");
-  const json ranking = {{"format", "wheelpose.review_ranking"},
-                        {"kept", {{{"id", "library/dance_arm_wave"}}, {{"id", "library/stretch_reach_forward"}}}}};
+  const json ranking = {
+      {"format", "wheelpose.review_ranking"},
+      {"kept", {{{"id", "library/dance_arm_wave"}}, {{"id", "library/stretch_reach_forward"}}}}};
   std::ofstream(dir / "ranking.json") << ranking.dump();
   const auto r = run_wheelpose(generate_args(write_scenario(dir), dir / "out", 3,
                                              "--clips-from " + (dir / "ranking.json").string()));
@@ -254,10 +358,10 @@ TEST(GenerateCli, BadInputGivesOneClearLine) {
 TEST(GenerateCli, StatsRunOnAGeneratedDataset) {
   const fs::path dir = fresh_temp_dir("generate_stats");
   ASSERT_EQ(run_wheelpose(generate_args(write_scenario(dir), dir / "out", 4)).exit_code, 0);
-  const auto r = run_wheelpose(
-      "stats " + (dir / "out" / "annotations.json").string() + " --reference " +
-      std::string(WHEELPOSE_SHARED_DIR) + "/data/coco-sample/person_keypoints_sample.json --out " +
-      (dir / "stats").string());
+  const auto r = run_wheelpose("stats " + (dir / "out" / "annotations.json").string() +
+                               " --reference " + std::string(WHEELPOSE_SHARED_DIR) +
+                               "/data/coco-sample/person_keypoints_sample.json --out " +
+                               (dir / "stats").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   // Our camera metadata feeds the camera analysis the COCO reference lacks.
   const json stats = read_json(dir / "stats" / "stats.json");
@@ -292,10 +396,10 @@ fi
 echo 4242
 )";
   fs::permissions(bin / "sbatch", fs::perms::owner_all);
-  const std::string command = "PATH=" + bin.string() + ":$PATH FRAMES=5 SHARDS=2 SEED=7 OUT=" +
-                              (dir / "run").string() + " CONFIG=" + config.string() +
-                              " WHEELPOSE=" + WHEELPOSE_BINARY + " bash " + WHEELPOSE_SOURCE_DIR +
-                              "/deploy/slurm-generate.sh > /dev/null 2>&1";
+  const std::string command =
+      "PATH=" + bin.string() + ":$PATH FRAMES=5 SHARDS=2 SEED=7 OUT=" + (dir / "run").string() +
+      " CONFIG=" + config.string() + " WHEELPOSE=" + WHEELPOSE_BINARY + " bash " +
+      WHEELPOSE_SOURCE_DIR + "/deploy/slurm-generate.sh > /dev/null 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0);
   const auto single = run_wheelpose("generate --config " + config.string() + " --out " +
                                     (dir / "single").string() + " --frames 5 --seed 7");
@@ -332,8 +436,8 @@ TEST(GenerateCli, RaisedHipsTemplateMovesOnlyTheHips) {
     const auto q = b["annotations"][i]["keypoints_3d"].get<std::vector<double>>();
     const double scale = a["annotations"][i]["scale"];
     for (int k = 0; k < 17; ++k) {
-      const double d = std::hypot(p[3 * k] - q[3 * k], p[3 * k + 1] - q[3 * k + 1],
-                                  p[3 * k + 2] - q[3 * k + 2]);
+      const double d =
+          std::hypot(p[3 * k] - q[3 * k], p[3 * k + 1] - q[3 * k + 1], p[3 * k + 2] - q[3 * k + 2]);
       if (k == 11 || k == 12) {
         if (p[3 * k + 2] != 0) {
           EXPECT_NEAR(d, 0.09 * scale, 0.002 * scale) << "keypoint " << k;

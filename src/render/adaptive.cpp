@@ -41,10 +41,10 @@ PlanesAt planes_at(const GuidePlanes& g, const std::vector<float> (&color)[3], s
 // For `count` pixel pairs (a[x], b[x]), sets `bit` in bits[x] when they lie on different sides
 // of an edge: another surface, a colour step above `contrast`, or, on a lit surface, normals
 // more than ≈ 18° apart or either point more than 30° off the other's tangent plane. Written
-// without branches so the compiler can vectorise it; cloned for AVX2 like the denoise loop
-// (independent lanes, no FMA: both clones give the same bits).
-WHEELPOSE_AVX2_CLONE void edge_bits(int count, const PlanesAt& a, const PlanesAt& b, float contrast,
-                                    int bit, std::uint8_t* __restrict bits) {
+// without branches so the compiler can vectorise it; built for AVX2 too, like the denoise loop
+// (independent lanes, no FMA: both builds give the same bits).
+WHEELPOSE_LOOP_BODY void edge_bits_lanes(int count, const PlanesAt& a, const PlanesAt& b,
+                                         float contrast, int bit, std::uint8_t* __restrict bits) {
   constexpr float kPlane2 = kMaxPlaneSine * kMaxPlaneSine;
   for (int x = 0; x < count; ++x) {
     const int colour = static_cast<int>(std::abs(a.color[0][x] - b.color[0][x]) > contrast) |
@@ -66,6 +66,7 @@ WHEELPOSE_AVX2_CLONE void edge_bits(int count, const PlanesAt& a, const PlanesAt
     bits[x] = static_cast<std::uint8_t>(bits[x] | (edge << bit));
   }
 }
+WHEELPOSE_AVX2_COPY(edge_bits, edge_bits_lanes)
 
 }  // namespace
 

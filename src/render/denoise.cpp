@@ -40,10 +40,10 @@ RowPlanes row_planes(const GuidePlanes& g, const std::vector<float> (&light)[6],
 
 // Adds, for `count` pixels, the weighted light of the neighbour at the same index of the q_*
 // planes (the centre planes shifted by the tap offset) into the sums. Restrict parameters and
-// no branches let the compiler vectorise the loop. Cloned for AVX2 (8 lanes, chosen at load time
-// on CPUs that have it): lanes are independent and no FMA is formed, so both clones give the
-// same bits.
-WHEELPOSE_AVX2_CLONE void accumulate_tap(
+// no branches let the compiler vectorise the loop. Built for AVX2 too (8 lanes, core/cpu_clones.h,
+// chosen by the active ISA): lanes are independent and no FMA is formed, so both give the same
+// bits.
+WHEELPOSE_LOOP_BODY void accumulate_tap_lanes(
     int count, float kernel_weight, const int* __restrict c_surface, const float* __restrict nx,
     const float* __restrict ny, const float* __restrict nz, const float* __restrict px,
     const float* __restrict py, const float* __restrict pz, const int* __restrict q_surface,
@@ -77,6 +77,7 @@ WHEELPOSE_AVX2_CLONE void accumulate_tap(
     s5[x] += weight * l5[x];
   }
 }
+WHEELPOSE_AVX2_COPY(accumulate_tap, accumulate_tap_lanes)
 
 // One 1-D pass over planes `in` into `out`: along rows (along_x) or columns.
 void filter_pass(const GuidePlanes& g, const std::vector<float>& kernel, int w, int h, bool along_x,

@@ -19,6 +19,8 @@
 #include "core/error.h"
 #include "core/random.h"
 #include "render/adaptive.h"
+#include "render/embree_device.h"
+#include "render/packet_mask.h"
 #include "render/post.h"
 #include "render/strata.h"
 
@@ -148,11 +150,7 @@ Renderer::Renderer(const scene::Scene& scene) : scene_(scene) {
   }
   for (float& c : light_cdf_) c /= total;
 
-  // One Embree device for the process (devices are thread-safe): creating one per frame cost
-  // milliseconds and its memory pools.
-  static const RTCDevice shared_device = rtcNewDevice(nullptr);
-  if (!shared_device) throw Error("embree: cannot create a device", ErrorKind::kFailure);
-  device_ = shared_device;
+  device_ = shared_embree_device();
   rtcRetainDevice(device_);
   rtc_scene_ = rtcNewScene(device_);
   rtcSetSceneBuildQuality(rtc_scene_, RTC_BUILD_QUALITY_LOW);
@@ -199,9 +197,7 @@ Renderer::Renderer(const scene::Scene& scene) : scene_(scene) {
     rtcReleaseGeometry(geom);
   }
   rtcCommitScene(rtc_scene_);
-  if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) {
-    throw Error("embree: building the scene failed", ErrorKind::kFailure);
-  }
+  throw_on_embree_error("building the scene");
   build_ms_ = ms_since(start);
 }
 
@@ -412,6 +408,7 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
   timings_.trace_ms = wall * static_cast<double>(trace_ns) / busy;
   timings_.shade_ms = wall * static_cast<double>(shade_ns) / busy;
   timings_.rays = rays;
+  throw_on_embree_error("tracing rays");
 
   const auto denoise_start = Clock::now();
   if (options.denoise_radius > 0) {
@@ -473,7 +470,7 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
   constexpr int kPixels = kTile * kTile;
   constexpr int kPackets = kPixels / 8;  // 4×2-pixel packets per tile
   std::array<RTCRayHit8, kPackets> hits;
-  std::array<std::array<int, 8>, kPackets> valid;
+  std::array<PacketMask, kPackets> valid;
   std::array<PrimarySample, kPixels> prim;
   // Per pixel: radiance of samples lit on their own, and the pixel's lighting (see
   // PixelLighting) accumulated over its light samples.
@@ -506,6 +503,7 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
   }
   if (active == 0) return;
   for (int li = 0; li < kPixels; ++li) valid[li / 8][li % 8] = li < active ? -1 : 0;
+  for (RTCRayHit8& packet : hits) switch_off_lanes(packet.ray);
   auto pixel_of = [&](int p, int k, int& x, int& y) {
     x = tile_x * kTile + slot[p * 8 + k] % kTile;
     y = tile_y * kTile + slot[p * 8 + k] / kTile;
@@ -561,8 +559,7 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
   auto trace_primary = [&]() {
     const auto t0 = Clock::now();
     for (int p = 0; p < kPackets; ++p) {
-      if (std::any_of(valid[p].begin(), valid[p].end(), [](int v) { return v != 0; }))
-        rtcIntersect8(valid[p].data(), rtc_scene_, &coherent, &hits[p]);
+      if (valid[p].count() > 0) rtcIntersect8(valid[p].data(), rtc_scene_, &coherent, &hits[p]);
     }
     trace_ns += std::chrono::duration<double, std::nano>(Clock::now() - t0).count();
   };
@@ -656,7 +653,8 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
     for (int p = 0; p < kPackets; ++p) {
       // Shadow packets: 0 = sun, 1 = one point light, 2 = environment.
       alignas(32) std::array<RTCRay8, 3> shadow;
-      std::array<std::array<int, 8>, 3> shadow_valid{};
+      for (RTCRay8& packet : shadow) switch_off_lanes(packet);
+      std::array<PacketMask, 3> shadow_valid{};
       // Per shadow ray: the part scaled by albedo and the specular part.
       std::array<std::array<Eigen::Vector3f, 8>, 3> to_diffuse, to_specular;
       std::array<bool, 8> into_pixel{};  // lighting goes to the pixel (true) or the sample only
@@ -835,8 +833,7 @@ void Renderer::render_tile(int tile_x, int tile_y, int sample_begin, int sample_
         }
       }
       for (int q = 0; q < 3; ++q) {
-        int n = 0;
-        for (int k = 0; k < 8; ++k) n += shadow_valid[q][k] != 0;
+        const int n = shadow_valid[q].count();
         if (n == 0) continue;
         // Sun rays are parallel and start close together: coherent.
         rtcOccluded8(shadow_valid[q].data(), rtc_scene_, q == 0 ? &coherent : &incoherent,

@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
+#include "core/isa_test_environment.h"
 #include "render/test_scenes.h"
 
 namespace wheelpose::render {
