@@ -12,6 +12,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "progress.h"
 #include "generate/runner.h"
 #include "generate/scenario.h"
 
@@ -48,46 +49,6 @@ std::pair<int, int> parse_shard(const std::string& text) {
   }
 }
 
-// A bar with rate and ETA on a terminal; a line every 10 % (or 30 s) otherwise.
-class Progress {
- public:
-  Progress() : tty_(::isatty(STDERR_FILENO) != 0), start_(std::chrono::steady_clock::now()) {}
-
-  void operator()(std::int64_t done, std::int64_t total) {
-    if (first_) {
-      first_ = false;
-      first_done_ = done;
-    }
-    const double elapsed =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    const double rate = elapsed > 0 ? static_cast<double>(done - first_done_) / elapsed : 0;
-    const double eta = rate > 0 ? static_cast<double>(total - done) / rate : 0;
-    if (tty_) {
-      const int width = 30;
-      const int filled = total > 0 ? static_cast<int>(width * done / total) : width;
-      std::fprintf(stderr, "\r[%s%s] %lld/%lld  %.2f img/s  ETA %.0f s ",
-                   std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(),
-                   static_cast<long long>(done), static_cast<long long>(total), rate, eta);
-      if (done == total) std::fprintf(stderr, "\n");
-      std::fflush(stderr);
-      return;
-    }
-    const std::int64_t decile = total > 0 ? 10 * done / total : 10;
-    if (decile > last_decile_ || elapsed - last_line_ >= 30 || done == total) {
-      last_decile_ = decile;
-      last_line_ = elapsed;
-      spdlog::info("generate: {}/{} frames, {:.2f} images/s, ETA {:.0f} s", done, total, rate, eta);
-    }
-  }
-
- private:
-  bool tty_;
-  std::chrono::steady_clock::time_point start_;
-  bool first_ = true;
-  std::int64_t first_done_ = 0, last_decile_ = -1;
-  double last_line_ = 0;
-};
-
 void run(const GenerateCommandOptions& o) {
   if (o.list_randomizers) {
     std::cout << generate::randomizer_reference_markdown();
@@ -107,7 +68,7 @@ void run(const GenerateCommandOptions& o) {
   run.motions.folder = o.motions;
   run.motions.clips_from = o.clips_from;
   if (!o.assets.empty()) run.assets = o.assets;
-  Progress progress;
+  Progress progress("generate", "frames");
   const generate::RunSummary s = generate::run_generate(
       scenario, run, [&progress](std::int64_t done, std::int64_t total) { progress(done, total); });
   spdlog::info(
