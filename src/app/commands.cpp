@@ -10,6 +10,7 @@ void attach_generate(CLI::App& parent);
 void attach_review(CLI::App& parent);
 void attach_coco(CLI::App& parent);
 void attach_stats(CLI::App& parent);
+void attach_predict(CLI::App& parent);
 
 const std::vector<Command>& command_table() {
   static const std::vector<Command> table = {
@@ -21,6 +22,7 @@ const std::vector<Command>& command_table() {
       {"review", attach_review},
       {"coco", attach_coco},
       {"stats", attach_stats},
+      {"predict", attach_predict},
   };
   return table;
 }

