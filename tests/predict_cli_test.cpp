@@ -1,0 +1,106 @@
+// End-to-end tests of `wheelpose predict`: a pretrained MoveNet on the COCO sample image, scored
+// by `wheelpose eval`, and bad input that leaves no results file behind.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli_runner.h"
+
+namespace {
+
+using nlohmann::json;
+using wheelpose::testing::fresh_temp_dir;
+using wheelpose::testing::read_text;
+using wheelpose::testing::run_wheelpose;
+namespace fs = std::filesystem;
+
+fs::path sample_dir() { return fs::path(WHEELPOSE_SHARED_DIR) / "data" / "coco-sample"; }
+
+bool have_models() {
+  return fs::exists(fs::path(WHEELPOSE_SOURCE_DIR) / "models" / "movenet-multipose.json");
+}
+
+// The sample's ground truth cut to the one image it ships.
+fs::path write_sample_gt(const fs::path& dir) {
+  json gt = json::parse(read_text(sample_dir() / "person_keypoints_sample.json"));
+  json images = json::array(), annotations = json::array();
+  for (const json& image : gt["images"]) {
+    if (image["file_name"] == "000000000785.jpg") images.push_back(image);
+  }
+  for (const json& a : gt["annotations"]) {
+    if (a["image_id"] == images.at(0)["id"]) annotations.push_back(a);
+  }
+  gt["images"] = images;
+  gt["annotations"] = annotations;
+  const fs::path path = dir / "gt.json";
+  std::ofstream(path) << gt.dump();
+  return path;
+}
+
+TEST(PredictCli, EveryModelFindsTheSkierAndEvalScoresIt) {
+  if (!have_models()) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
+  const auto dir = fresh_temp_dir("predict_models");
+  const fs::path gt = write_sample_gt(dir);
+  for (const std::string model : {"movenet-multipose", "movenet-thunder", "movenet-lightning"}) {
+    const fs::path out = dir / (model + ".json");
+    auto r = run_wheelpose("predict --model " + model + " --coco " + gt.string() + " --images " +
+                           sample_dir().string() + " --out " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const json results = json::parse(read_text(out));
+    ASSERT_GE(results.size(), 1u) << model;
+    EXPECT_EQ(results[0]["keypoints"].size(), 51u);
+    EXPECT_EQ(results[0]["bbox"].size(), 4u);
+    r = run_wheelpose("eval --gt " + gt.string() + " --dt " + out.string() + " --type both");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    // The skier is large and clear: every model gets keypoint AP of at least 0.8.
+    const std::string line = "IoU=0.50:0.95 | area=   all | maxDets= 20 ] = ";
+    const auto at = r.output.find(line);
+    ASSERT_NE(at, std::string::npos) << r.output;
+    EXPECT_GE(std::stod(r.output.substr(at + line.size(), 5)), 0.8) << model << "\n" << r.output;
+  }
+}
+
+TEST(PredictCli, AFolderWithoutACocoFileWorksForMultipose) {
+  if (!have_models()) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
+  const auto dir = fresh_temp_dir("predict_folder");
+  fs::create_directories(dir / "images");
+  fs::copy_file(sample_dir() / "000000000785.jpg", dir / "images" / "a.jpg");
+  const auto r = run_wheelpose("predict --images " + (dir / "images").string() + " --out " +
+                               (dir / "out.json").string() + " --size 256");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json results = json::parse(read_text(dir / "out.json"));
+  ASSERT_GE(results.size(), 1u);
+  EXPECT_EQ(results[0]["image_id"], 1);
+}
+
+TEST(PredictCli, BadInputGivesOneLineAndNoResultsFile) {
+  if (!have_models()) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
+  const auto dir = fresh_temp_dir("predict_bad");
+  fs::create_directories(dir / "empty");
+  fs::create_directories(dir / "broken");
+  std::ofstream(dir / "broken" / "x.jpg") << "not a jpeg";
+  const fs::path out = dir / "out.json";
+  struct Case {
+    std::string args, says;
+  } cases[] = {
+      {"--images " + (dir / "empty").string(), "no images to predict on"},
+      {"--images " + (dir / "broken").string(), "cannot read or decode the image"},
+      {"--images " + (dir / "broken").string() + " --size 100",
+       "must be a positive multiple of 32"},
+      {"--images " + (dir / "broken").string() + " --model movenet-giant", "unknown model"},
+      {"--images " + (dir / "broken").string() + " --model movenet-thunder",
+       "is a single-person model"},
+  };
+  for (const Case& c : cases) {
+    const auto r = run_wheelpose("predict " + c.args + " --out " + out.string());
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.says), std::string::npos) << c.args << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(out)) << c.args;
+  }
+}
+
+}  // namespace
