@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -172,8 +173,8 @@ c10::impl::GenericDict read_weights_dict(const fs::path& path) {
   try {
     value = torch::pickle_load(std::vector<char>(bytes.begin(), bytes.end()));
   } catch (const c10::Error& e) {
-    throw Error(path.string() + ": not a weights file (" +
-                first_line(e.what_without_backtrace()) + ")");
+    throw Error(path.string() + ": not a weights file (" + first_line(e.what_without_backtrace()) +
+                ")");
   }
   auto bad = [&](const std::string& why) -> Error {
     return Error(path.string() + ": not a " + kWeightsFormat + " file (" + why + ")");
@@ -231,8 +232,8 @@ void GraphModule::compile() {
     if (node.op != "Const") continue;
     Tensor t = host_to_tensor(*node.value);
     const bool trainable = t.scalar_type() == torch::kFloat &&
-                           (roles[n] == Role::kConvFilter ||
-                            roles[n] == Role::kDepthwiseFilter || roles[n] == Role::kBias);
+                           (roles[n] == Role::kConvFilter || roles[n] == Role::kDepthwiseFilter ||
+                            roles[n] == Role::kBias);
     if (trainable) {
       if (roles[n] == Role::kConvFilter) {
         if (t.dim() != 4) Attrs(model_, n).fail("a Conv2D filter must be 4-D [kh, kw, in, out]");
@@ -308,18 +309,17 @@ void GraphModule::compile() {
         }
         if (next < fused.size()) {
           const std::string& act = fused[next++];
-          if (act == "Relu") spec.activation = ops::Activation::kRelu;
-          else if (act == "Relu6") spec.activation = ops::Activation::kRelu6;
-          else if (act == "Elu") spec.activation = ops::Activation::kElu;
-          else if (act == "Sigmoid") spec.activation = ops::Activation::kSigmoid;
-          else if (act == "Tanh") spec.activation = ops::Activation::kTanh;
-          else if (act == "LeakyRelu") {
-            spec.activation = ops::Activation::kLeakyRelu;
-            spec.alpha = a.f("leakyrelu_alpha", 0.2);
-          } else if (act == "Prelu") {
-            spec.activation = ops::Activation::kPrelu;
-          } else {
+          static const std::map<std::string, ops::Activation> activations = {
+              {"Relu", ops::Activation::kRelu},  {"Relu6", ops::Activation::kRelu6},
+              {"Elu", ops::Activation::kElu},    {"Sigmoid", ops::Activation::kSigmoid},
+              {"Tanh", ops::Activation::kTanh},  {"LeakyRelu", ops::Activation::kLeakyRelu},
+              {"Prelu", ops::Activation::kPrelu}};
+          auto found = activations.find(act);
+          if (found == activations.end()) {
             next = fused.size() + 1;  // unsupported
+          } else {
+            spec.activation = found->second;
+            spec.alpha = a.f("leakyrelu_alpha", 0.2);
           }
         }
         const std::size_t needed_args =
@@ -352,8 +352,8 @@ void GraphModule::compile() {
       const auto strides = a.hw("strides", 1);
       const ops::Padding padding = a.padding();
       k = [this, ksize, strides, padding](V& in) {
-        return V{ops::max_pool_nhwc(in[0], {ksize[0], ksize[1]}, {strides[0], strides[1]},
-                                    padding, channels_last_)};
+        return V{ops::max_pool_nhwc(in[0], {ksize[0], ksize[1]}, {strides[0], strides[1]}, padding,
+                                    channels_last_)};
       };
     } else if (op == "ResizeBilinear") {
       a.inputs(2);
@@ -473,15 +473,11 @@ void GraphModule::compile() {
     } else if (op == "Shape") {
       a.inputs(1);
       const torch::ScalarType out = scalar_type(a.type("out_type").value_or(DType::kInt32));
-      k = [out](V& in) {
-        return V{torch::tensor(in[0].sizes().vec(), torch::kLong).to(out)};
-      };
+      k = [out](V& in) { return V{torch::tensor(in[0].sizes().vec(), torch::kLong).to(out)}; };
     } else if (op == "Size") {
       a.inputs(1);
       const torch::ScalarType out = scalar_type(a.type("out_type").value_or(DType::kInt32));
-      k = [out](V& in) {
-        return V{torch::scalar_tensor(in[0].numel(), torch::kLong).to(out)};
-      };
+      k = [out](V& in) { return V{torch::scalar_tensor(in[0].numel(), torch::kLong).to(out)}; };
     } else if (op == "Reshape") {
       a.inputs(2);
       k = [](V& in) { return V{in[0].reshape(ops::int_values(in[1]))}; };
@@ -646,8 +642,8 @@ const GraphModule::Plan& GraphModule::plan_for(const std::vector<std::string>& c
   for (const std::string& name : capture) {
     const TensorRef ref = model_.resolve(name);
     if (ref.output >= output_counts_[ref.node]) {
-      throw Error(model_.topology_path.string() + ": cannot capture '" + name + "': " +
-                  model_.nodes[ref.node].op + " node has " +
+      throw Error(model_.topology_path.string() + ": cannot capture '" + name +
+                  "': " + model_.nodes[ref.node].op + " node has " +
                   std::to_string(output_counts_[ref.node]) + " outputs");
     }
     plan.names.push_back(name);
@@ -692,8 +688,8 @@ TensorMap GraphModule::forward(const torch::Tensor& input,
   if (const AttrValue* s = placeholder.attr("shape"); s && s->kind == AttrValue::Kind::kShape) {
     expected = s->shape;
   }
-  bool fits = input.defined() && (expected.empty() || input.dim() ==
-                                                          static_cast<std::int64_t>(expected.size()));
+  bool fits = input.defined() &&
+              (expected.empty() || input.dim() == static_cast<std::int64_t>(expected.size()));
   for (std::size_t d = 0; fits && d < expected.size(); ++d) {
     fits = expected[d] < 0 || expected[d] == input.size(static_cast<std::int64_t>(d));
   }

@@ -12,6 +12,11 @@
 // (registered under their node names, '.' replaced by '_'), stored in torch's layout: Conv2D
 // filters [out, in, kh, kw] (TF: [kh, kw, in, out]), depthwise filters [in*mult, 1, kh, kw]
 // (TF: [kh, kw, in, mult]). Every other constant is a fixed tensor.
+//
+// Convolutions call oneDNN (at::mkldnn_convolution) directly: ATen's own heuristic sends small
+// batch-1 convolutions to im2col + BLAS, which with Debian's reference BLAS is the slowest path.
+// forward() caches an execution plan per capture list, so one module must not run forward() on
+// two threads at once.
 
 #include <torch/torch.h>
 
@@ -70,19 +75,19 @@ class GraphModule : public torch::nn::Module {
 
  private:
   struct Plan {
-    std::vector<int> steps;                  // node indices to run, in order
-    std::vector<std::vector<int>> release;   // per step: nodes whose outputs die after it
-    std::vector<std::string> names;          // returned names
-    std::vector<TensorRef> refs;             // ... and the tensors they name
+    std::vector<int> steps;                 // node indices to run, in order
+    std::vector<std::vector<int>> release;  // per step: nodes whose outputs die after it
+    std::vector<std::string> names;         // returned names
+    std::vector<TensorRef> refs;            // ... and the tensors they name
   };
   void compile();
   const Plan& plan_for(const std::vector<std::string>& capture);
 
   TfjsModel model_;
   bool channels_last_ = true;
-  std::vector<Kernel> kernels_;                // per node
-  std::vector<int> output_counts_;             // per node: how many outputs it produces
-  std::vector<torch::Tensor> constants_;       // per node: Const values (params share storage)
+  std::vector<Kernel> kernels_;           // per node
+  std::vector<int> output_counts_;        // per node: how many outputs it produces
+  std::vector<torch::Tensor> constants_;  // per node: Const values (params share storage)
   std::unordered_map<std::string, std::string> param_by_node_;  // node -> registered name
   std::vector<std::string> parameter_nodes_;
   std::vector<std::string> capture_;

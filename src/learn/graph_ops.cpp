@@ -144,9 +144,8 @@ Tensor conv2d_nhwc(const Tensor& x, const Tensor& filter, const Tensor& bias,
     throw OpError("depthwise filter " + shape_text(w.sizes()) + " does not fit " +
                   std::to_string(groups) + " input channels");
   }
-  const auto [top, bottom, left, right] =
-      pads_for(spec.padding, xf.size(1), xf.size(2), w.size(2), w.size(3), spec.stride,
-               spec.dilation);
+  const auto [top, bottom, left, right] = pads_for(spec.padding, xf.size(1), xf.size(2), w.size(2),
+                                                   w.size(3), spec.stride, spec.dilation);
   const bool symmetric = top == bottom && left == right;
   const Tensor in = symmetric ? to_nchw(xf, channels_last)
                               : pad_hw_nchw(xf, top, bottom, left, right, 0, channels_last);
@@ -185,8 +184,8 @@ Tensor max_pool_nhwc(const Tensor& x, std::array<std::int64_t, 2> ksize,
   return y.permute({0, 2, 3, 1});
 }
 
-Tensor resize_bilinear(const Tensor& x, std::int64_t out_h, std::int64_t out_w,
-                       bool align_corners, bool half_pixel_centers) {
+Tensor resize_bilinear(const Tensor& x, std::int64_t out_h, std::int64_t out_w, bool align_corners,
+                       bool half_pixel_centers) {
   require_nhwc(x, "ResizeBilinear");
   if (!align_corners && !half_pixel_centers) {
     return resize_bilinear_reference(x, out_h, out_w, false, false);
@@ -232,8 +231,7 @@ Tensor select_v1(const Tensor& cond, const Tensor& t, const Tensor& e) {
     shape[0] = cond.size(0);
     return torch::where(cond.view(shape), t, e);
   }
-  throw OpError("condition " + shape_text(cond.sizes()) + " does not fit " +
-                shape_text(t.sizes()));
+  throw OpError("condition " + shape_text(cond.sizes()) + " does not fit " + shape_text(t.sizes()));
 }
 
 Tensor reduce(const Tensor& x, std::vector<std::int64_t> axes, Reduction r, bool keep_dims) {
@@ -268,7 +266,8 @@ Tensor reduce(const Tensor& x, std::vector<std::int64_t> axes, Reduction r, bool
 
 Tensor arg_max(const Tensor& x, std::int64_t dim) {
   const std::int64_t rank = x.dim();
-  if (dim < -rank || dim >= rank) throw OpError("dimension " + std::to_string(dim) + " out of range");
+  if (dim < -rank || dim >= rank)
+    throw OpError("dimension " + std::to_string(dim) + " out of range");
   if (dim < 0) dim += rank;
   return x.argmax(dim);  // the first maximum, as TF
 }
@@ -277,8 +276,7 @@ std::pair<Tensor, Tensor> top_k(const Tensor& x, std::int64_t k) {
   if (x.dim() < 1) throw OpError("input must have rank >= 1");
   const std::int64_t n = x.size(-1);
   if (k < 0 || k > n) {
-    throw OpError("k = " + std::to_string(k) + " but the last dimension has " +
-                  std::to_string(n));
+    throw OpError("k = " + std::to_string(k) + " but the last dimension has " + std::to_string(n));
   }
   // A stable descending sort keeps equal values in index order, as TF's TopKV2 returns them.
   auto [values, indices] = torch::sort(x, /*stable=*/true, /*dim=*/-1, /*descending=*/true);
@@ -296,8 +294,8 @@ Tensor gather_nd(const Tensor& params, const Tensor& indices) {
   Tensor linear = torch::zeros({idx.size(0)}, torch::kLong);
   for (std::int64_t j = 0; j < m; ++j) {
     const Tensor column = idx.select(1, j);
-    if (idx.size(0) > 0 && (column.lt(0).any().item<bool>() ||
-                            column.ge(params.size(j)).any().item<bool>())) {
+    if (idx.size(0) > 0 &&
+        (column.lt(0).any().item<bool>() || column.ge(params.size(j)).any().item<bool>())) {
       throw OpError("an index in column " + std::to_string(j) + " is outside params " +
                     shape_text(params.sizes()));
     }
@@ -316,7 +314,8 @@ Tensor squeeze_dims(const Tensor& x, const std::vector<std::int64_t>& dims) {
     for (std::int64_t d = 0; d < rank; ++d) drop[d] = x.size(d) == 1;
   } else {
     for (std::int64_t d : dims) {
-      if (d < -rank || d >= rank) throw OpError("squeeze dim " + std::to_string(d) + " out of range");
+      if (d < -rank || d >= rank)
+        throw OpError("squeeze dim " + std::to_string(d) + " out of range");
       if (d < 0) d += rank;
       if (x.size(d) != 1) {
         throw OpError("cannot squeeze dim " + std::to_string(d) + " of " + shape_text(x.sizes()));

@@ -24,8 +24,7 @@ Tensor counting_image(std::int64_t h, std::int64_t w) {
   return torch::arange(1, h * w + 1, torch::kFloat).reshape({1, h, w, 1});
 }
 
-void expect_near(const std::vector<float>& got, const std::vector<float>& want,
-                 float tol = 1e-5f) {
+void expect_near(const std::vector<float>& got, const std::vector<float>& want, float tol = 1e-5f) {
   ASSERT_EQ(got.size(), want.size());
   for (std::size_t i = 0; i < got.size(); ++i) EXPECT_NEAR(got[i], want[i], tol) << "at " << i;
 }
@@ -136,9 +135,11 @@ Tensor reference_conv(const Tensor& x, const Tensor& f, std::int64_t stride, std
           if (y < 0 || y >= h || xx < 0 || xx >= w) continue;
           for (std::int64_t c = 0; c < cin; ++c) {
             if (depthwise) {
-              for (std::int64_t q = 0; q < m; ++q) oa[0][i][j][c * m + q] += xa[0][y][xx][c] * fa[a][b][c][q];
+              for (std::int64_t q = 0; q < m; ++q)
+                oa[0][i][j][c * m + q] += xa[0][y][xx][c] * fa[a][b][c][q];
             } else {
-              for (std::int64_t o = 0; o < cout; ++o) oa[0][i][j][o] += xa[0][y][xx][c] * fa[a][b][c][o];
+              for (std::int64_t o = 0; o < cout; ++o)
+                oa[0][i][j][o] += xa[0][y][xx][c] * fa[a][b][c][o];
             }
           }
         }
@@ -336,7 +337,8 @@ TEST(FloorDiv, IntegersRoundTowardNegativeInfinity) {
 }
 
 TEST(FloorDiv, FloatsAreFloorOfQuotient) {
-  const Tensor q = floor_div(torch::tensor({-7.5f, 7.5f, 6.0f}), torch::tensor({2.0f, -2.0f, 3.0f}));
+  const Tensor q =
+      floor_div(torch::tensor({-7.5f, 7.5f, 6.0f}), torch::tensor({2.0f, -2.0f, 3.0f}));
   expect_near(values(q), {-4, -4, 2});
 }
 
@@ -376,7 +378,8 @@ TEST(GatherNd, IndexesLeadingDimensions) {
   EXPECT_EQ(shape(y), (std::vector<std::int64_t>{2, 2}));
   expect_near(values(y), {10, 11, 2, 3});
   // M = 3: scalars, batch shape kept.
-  const Tensor z = gather_nd(params, torch::tensor({1, 2, 1, 0, 0, 1}, torch::kInt).reshape({1, 2, 3}));
+  const Tensor z =
+      gather_nd(params, torch::tensor({1, 2, 1, 0, 0, 1}, torch::kInt).reshape({1, 2, 3}));
   EXPECT_EQ(shape(z), (std::vector<std::int64_t>{1, 2}));
   expect_near(values(z), {11, 1});
   // M = 1: whole slices.
@@ -389,7 +392,8 @@ TEST(GatherNd, IndexesLeadingDimensions) {
 
 TEST(GatherNd, IsDifferentiable) {
   const Tensor params = torch::arange(6, torch::kFloat).reshape({2, 3}).requires_grad_();
-  const Tensor y = gather_nd(params, torch::tensor({1, 2, 1, 2, 0, 0}, torch::kInt).reshape({3, 2}));
+  const Tensor y =
+      gather_nd(params, torch::tensor({1, 2, 1, 2, 0, 0}, torch::kInt).reshape({3, 2}));
   y.sum().backward();
   expect_near(values(params.grad()), {1, 0, 0, 0, 0, 2});
 }
@@ -398,13 +402,14 @@ TEST(Range, FloatAccumulatesAndIntCountsExactly) {
   expect_near(values(range(torch::scalar_tensor(0.0f), torch::scalar_tensor(4.0f),
                            torch::scalar_tensor(1.0f))),
               {0, 1, 2, 3});
-  const Tensor r = range(torch::scalar_tensor(1, torch::kInt), torch::scalar_tensor(-6, torch::kInt),
-                         torch::scalar_tensor(-3, torch::kInt));
+  const Tensor r =
+      range(torch::scalar_tensor(1, torch::kInt), torch::scalar_tensor(-6, torch::kInt),
+            torch::scalar_tensor(-3, torch::kInt));
   EXPECT_EQ(r.scalar_type(), torch::kInt);
   EXPECT_EQ(ivalues(r), (std::vector<std::int64_t>{1, -2, -5}));
   // 0, 0.1, ... accumulated in float: 10 values (ceil(1 / 0.1f)), the last one 0.1f added 9 times.
-  const Tensor f = range(torch::scalar_tensor(0.0f), torch::scalar_tensor(1.0f),
-                         torch::scalar_tensor(0.1f));
+  const Tensor f =
+      range(torch::scalar_tensor(0.0f), torch::scalar_tensor(1.0f), torch::scalar_tensor(0.1f));
   ASSERT_EQ(f.numel(), 10);
   float acc = 0;
   for (int i = 0; i < 9; ++i) acc += 0.1f;

@@ -31,18 +31,18 @@ inline bool have_model(const std::string& name) {
   return fs::exists(model_json(name)) && fs::exists(models_dir() / (name + ".bin"));
 }
 
-#define WHEELPOSE_REQUIRE_MODEL(name)                                                   \
-  if (!::wheelpose::learn::testing::have_model(name))                                   \
-  GTEST_SKIP() << "model " << (name) << " not found in "                                \
-               << ::wheelpose::learn::testing::models_dir()                             \
+#define WHEELPOSE_REQUIRE_MODEL(name)                       \
+  if (!::wheelpose::learn::testing::have_model(name))       \
+  GTEST_SKIP() << "model " << (name) << " not found in "    \
+               << ::wheelpose::learn::testing::models_dir() \
                << "; run scripts/setup.sh (or set WHEELPOSE_MODELS)"
 
 // A fresh empty directory under the system temp dir, removed when destroyed.
 class TempDir {
  public:
   explicit TempDir(const std::string& tag) {
-    path_ = fs::temp_directory_path() /
-            ("wheelpose_learn_" + tag + "_" + std::to_string(::getpid()));
+    path_ =
+        fs::temp_directory_path() / ("wheelpose_learn_" + tag + "_" + std::to_string(::getpid()));
     fs::remove_all(path_);
     fs::create_directories(path_);
   }
@@ -57,8 +57,7 @@ class TempDir {
 };
 
 inline std::string base64(const std::string& in) {
-  static const char* alphabet =
-      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  static const char* alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string out;
   std::size_t i = 0;
   for (; i + 2 < in.size(); i += 3) {
@@ -73,8 +72,8 @@ inline std::string base64(const std::string& in) {
     out += alphabet[(v >> 12) & 63];
     out += "==";
   } else if (i + 2 == in.size()) {
-    const unsigned v = (static_cast<unsigned char>(in[i]) << 16) |
-                       (static_cast<unsigned char>(in[i + 1]) << 8);
+    const unsigned v =
+        (static_cast<unsigned char>(in[i]) << 16) | (static_cast<unsigned char>(in[i + 1]) << 8);
     out += alphabet[(v >> 18) & 63];
     out += alphabet[(v >> 12) & 63];
     out += alphabet[(v >> 6) & 63];
@@ -110,9 +109,10 @@ class GraphBuilder {
  public:
   GraphBuilder& placeholder(const std::string& name, const std::string& dtype,
                             const std::vector<long long>& shape) {
-    nodes_.push_back({{"name", name},
-                      {"op", "Placeholder"},
-                      {"attr", {{"dtype", attr_type(dtype)}, {"shape", {{"shape", tensor_shape(shape)}}}}}});
+    nodes_.push_back(
+        {{"name", name},
+         {"op", "Placeholder"},
+         {"attr", {{"dtype", attr_type(dtype)}, {"shape", {{"shape", tensor_shape(shape)}}}}}});
     return *this;
   }
   GraphBuilder& const_float(const std::string& name, const std::vector<long long>& shape,

@@ -243,8 +243,8 @@ std::optional<HostTensor> read_inline_tensor(const Reader& r, const json& tensor
   r.array(*values, vkey);
   if (values->empty() && n > 0) r.fail_at(vkey, "no values");
   if (static_cast<std::int64_t>(values->size()) > n) {
-    r.fail_at(vkey, std::to_string(values->size()) + " values for " + std::to_string(n) +
-                        " elements");
+    r.fail_at(vkey,
+              std::to_string(values->size()) + " values for " + std::to_string(n) + " elements");
   }
   t.data.reserve(bytes);
   for (std::int64_t k = 0; k < n; ++k) {
@@ -381,8 +381,8 @@ std::unordered_map<std::string, HostTensor> read_weights(const Reader& r, const 
         std::vector<float> values(static_cast<std::size_t>(n));
         for (std::int64_t k = 0; k < n; ++k) {
           if (entry.quantized == "uint8") {
-            values[k] = static_cast<float>(static_cast<std::uint8_t>(src[k]) * entry.scale +
-                                           entry.min);
+            values[k] =
+                static_cast<float>(static_cast<std::uint8_t>(src[k]) * entry.scale + entry.min);
           } else {
             std::uint16_t bits;
             std::memcpy(&bits, src + 2 * k, 2);
@@ -572,7 +572,8 @@ TfjsModel load_tfjs_model(const fs::path& json_path) {
           // Re-say it with the node's name: "<file>: node 'x': key 'attr.T.type': ...".
           const std::string prefix = json_path.string() + ": key '";
           std::string message = e.what();
-          if (message.rfind(prefix, 0) == 0) message = message.substr(json_path.string().size() + 2);
+          if (message.rfind(prefix, 0) == 0)
+            message = message.substr(json_path.string().size() + 2);
           fail(json_path, where + ": attr " + message);
         }
       }
@@ -608,8 +609,7 @@ TfjsModel load_tfjs_model(const fs::path& json_path) {
       if (!in.empty() && in[0] == '^') {
         auto it = file_index.find(in.substr(1));
         if (it == file_index.end()) {
-          fail(json_path, "node '" + rn.node.name + "': control input '" + in +
-                              "' names no node");
+          fail(json_path, "node '" + rn.node.name + "': control input '" + in + "' names no node");
         }
         rn.node.control_inputs.push_back(it->second);
         continue;
@@ -682,7 +682,8 @@ TfjsModel load_tfjs_model(const fs::path& json_path) {
         t.dtype = dtype_from_tf(dt);
         if (!t.dtype) r.fail_at(ekey + ".dtype", "unknown dtype '" + dt + "'");
       }
-      if (const json* s = r.find(value, "tensorShape")) t.shape = r.shape(*s, ekey + ".tensorShape");
+      if (const json* s = r.find(value, "tensorShape"))
+        t.shape = r.shape(*s, ekey + ".tensorShape");
       out.push_back(std::move(t));
     }
   };

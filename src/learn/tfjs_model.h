@@ -43,12 +43,12 @@ struct AttrValue {
   std::int64_t i = 0;
   double f = 0;
   bool b = false;
-  std::string s;                      // kString, base64-decoded
-  DType type = DType::kFloat32;       // kType (DT_STRING etc. map to nothing: kept as s)
-  std::vector<std::int64_t> shape;    // kShape: dims, -1 when unknown
-  std::vector<std::int64_t> ints;     // kList
-  std::vector<double> floats;         // kList
-  std::vector<std::string> strings;   // kList, base64-decoded
+  std::string s;                     // kString, base64-decoded
+  DType type = DType::kFloat32;      // kType (DT_STRING etc. map to nothing: kept as s)
+  std::vector<std::int64_t> shape;   // kShape: dims, -1 when unknown
+  std::vector<std::int64_t> ints;    // kList
+  std::vector<double> floats;        // kList
+  std::vector<std::string> strings;  // kList, base64-decoded
 };
 
 // The `k`-th output of node `node` (an index into TfjsModel::nodes).
@@ -61,7 +61,7 @@ struct TensorRef {
 struct GraphNode {
   std::string name;
   std::string op;
-  std::vector<TensorRef> inputs;   // data inputs, in order
+  std::vector<TensorRef> inputs;    // data inputs, in order
   std::vector<int> control_inputs;  // "^name" inputs: ordering only
   std::map<std::string, AttrValue> attrs;
   std::optional<HostTensor> value;  // Const nodes: from the manifest or inline
@@ -82,7 +82,7 @@ struct TfjsModel {
   std::filesystem::path topology_path;  // the .json
   std::string format;                   // "graph-model"
   std::string generated_by;
-  std::vector<GraphNode> nodes;  // topological order: every input precedes its consumer
+  std::vector<GraphNode> nodes;          // topological order: every input precedes its consumer
   std::vector<SignatureTensor> inputs;   // the Placeholders
   std::vector<SignatureTensor> outputs;  // signature outputs, else the unconsumed nodes
 

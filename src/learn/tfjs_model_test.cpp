@@ -140,10 +140,8 @@ TEST(TfjsModel, ReadsInlineConstantsAndFindsOutputsWithoutSignature) {
   std::ofstream(file) << doc.dump();
   const TfjsModel m = load_tfjs_model(file);
   EXPECT_EQ(floats_of(*m.nodes[m.find_node("c")].value), (std::vector<float>{1.5f, -2.0f}));
-  EXPECT_EQ(ints_of(*m.nodes[m.find_node("splat")].value),
-            (std::vector<std::int32_t>{7, 7, 7, 7}));
-  EXPECT_EQ(ints_of(*m.nodes[m.find_node("content")].value),
-            (std::vector<std::int32_t>{3, -4, 5}));
+  EXPECT_EQ(ints_of(*m.nodes[m.find_node("splat")].value), (std::vector<std::int32_t>{7, 7, 7, 7}));
+  EXPECT_EQ(ints_of(*m.nodes[m.find_node("content")].value), (std::vector<std::int32_t>{3, -4, 5}));
   ASSERT_EQ(m.outputs.size(), 1u);  // the unconsumed non-constant node
   EXPECT_EQ(m.outputs[0].name, "sum:0");
   ASSERT_EQ(m.inputs.size(), 1u);
@@ -230,9 +228,8 @@ TEST_F(CorruptModel, UnknownOpNamesOpAndNode) {
     if (node["name"] == "StatefulPartitionedCall/Sigmoid") node["op"] = "FancyOp";
   }
   write_json(doc_);
-  EXPECT_THAT(load_error(),
-              AllOf(HasSubstr(json_.string()), HasSubstr("'FancyOp'"),
-                    HasSubstr("node 'StatefulPartitionedCall/Sigmoid'")));
+  EXPECT_THAT(load_error(), AllOf(HasSubstr(json_.string()), HasSubstr("'FancyOp'"),
+                                  HasSubstr("node 'StatefulPartitionedCall/Sigmoid'")));
 }
 
 TEST_F(CorruptModel, UnknownDtypes) {
@@ -248,7 +245,8 @@ TEST_F(CorruptModel, UnknownDtypes) {
 
   doc_ = json::parse(read_file(model_json(kLightning)));
   for (json& node : doc_["modelTopology"]["node"]) {
-    if (node["name"] == "StatefulPartitionedCall/Sigmoid") node["attr"]["T"]["type"] = "DT_COMPLEX64";
+    if (node["name"] == "StatefulPartitionedCall/Sigmoid")
+      node["attr"]["T"]["type"] = "DT_COMPLEX64";
   }
   write_json(doc_);
   EXPECT_THAT(load_error(), AllOf(HasSubstr("DT_COMPLEX64"),
