@@ -34,16 +34,6 @@ std::vector<float> values(const Tensor& t) {
   return std::vector<float>(c.data_ptr<float>(), c.data_ptr<float>() + c.numel());
 }
 
-template <typename F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
-
 Tensor zeros_input(std::int64_t h, std::int64_t w) {
   return torch::zeros({1, h, w, 3}, torch::kInt);
 }

@@ -12,9 +12,23 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
+
 namespace wheelpose::learn::testing {
 
 namespace fs = std::filesystem;
+
+// The message of the Error that `f` throws ("" if none).
+template <typename F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const ::wheelpose::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
 using nlohmann::json;
 
 // $WHEELPOSE_MODELS, else the checkout's models/.

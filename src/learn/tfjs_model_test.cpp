@@ -36,17 +36,6 @@ std::vector<std::int32_t> ints_of(const HostTensor& t) {
   return v;
 }
 
-// The message of the Error that `f` throws ("" if none).
-template <typename F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TEST(HalfToFloat, DecodesNormalsSubnormalsAndSpecials) {
   EXPECT_EQ(half_to_float(0x3C00), 1.0f);
   EXPECT_EQ(half_to_float(0xC000), -2.0f);
