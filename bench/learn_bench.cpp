@@ -1,16 +1,24 @@
 // MoveNet inference through LibTorch (learn::PosePredictor), per model and input size, on the
 // COCO sample image scaled to 1280×720 (a generated frame's size). scripts/bench_movenet.sh
-// runs this beside TF.js (wasm) on the same inputs. Threads: all cores unless
-// WHEELPOSE_BENCH_THREADS says otherwise.
+// runs this beside TF.js (wasm) on the same network inputs, which `bench_learn
+// --write-tfjs-inputs DIR` writes as PNGs with a manifest for tests/tfjs_reference. Threads: all
+// cores unless WHEELPOSE_BENCH_THREADS says otherwise.
 
 #include <benchmark/benchmark.h>
 
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/allocator.h"
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "learn/letterbox.h"
 #include "learn/model_files.h"
 #include "learn/pose_predictor.h"
 
@@ -42,6 +50,9 @@ std::unique_ptr<PosePredictor> load(const std::string& name, int size) {
       model, wheelpose::learn::PredictOptions{.longer_side = size, .threads = bench_threads()});
 }
 
+constexpr int kMultiposeSizes[] = {256, 384, 512, 640};
+const wheelpose::eval::Box kPersonBox = {440, 160, 400, 400};
+
 void BM_Multipose(benchmark::State& state) {
   const auto predictor = load("movenet-multipose", static_cast<int>(state.range(0)));
   const cv::Mat rgb = frame();
@@ -49,10 +60,10 @@ void BM_Multipose(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 BENCHMARK(BM_Multipose)
-    ->Arg(256)
-    ->Arg(384)
-    ->Arg(512)
-    ->Arg(640)
+    ->Arg(kMultiposeSizes[0])
+    ->Arg(kMultiposeSizes[1])
+    ->Arg(kMultiposeSizes[2])
+    ->Arg(kMultiposeSizes[3])
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
@@ -60,7 +71,7 @@ BENCHMARK(BM_Multipose)
 void BM_SinglePerson(benchmark::State& state, const char* name) {
   const auto predictor = load(name, 256);
   const cv::Mat rgb = frame();
-  const std::vector<wheelpose::eval::Box> box = {{440, 160, 400, 400}};
+  const std::vector<wheelpose::eval::Box> box = {kPersonBox};
   for (auto _ : state) benchmark::DoNotOptimize(predictor->predict_boxes(rgb, box));
   state.SetItemsProcessed(state.iterations());
 }
@@ -71,4 +82,51 @@ BENCHMARK_CAPTURE(BM_SinglePerson, thunder, "movenet-thunder")
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// The network inputs the benchmarks above build, as PNGs named like the benchmarks, and a
+// manifest that tests/tfjs_reference/reference.mjs reads.
+void write_tfjs_inputs(const fs::path& dir) {
+  fs::create_directories(dir);
+  nlohmann::json manifest = {{"inputs", nlohmann::json::array()}};
+  auto write = [&](const std::string& file, const std::string& model, const cv::Mat& rgb) {
+    cv::Mat bgr;
+    cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+    if (!cv::imwrite((dir / file).string(), bgr)) {
+      throw wheelpose::Error("cannot write " + (dir / file).string());
+    }
+    manifest["inputs"].push_back({{"file", file}, {"model", model}});
+  };
+  const cv::Mat rgb = frame();
+  for (const int size : kMultiposeSizes) {
+    write("BM_Multipose_" + std::to_string(size) + ".png", "movenet-multipose",
+          wheelpose::learn::letterbox_image(
+              rgb, wheelpose::learn::plan_letterbox(rgb.cols, rgb.rows, size)));
+  }
+  const auto crop = wheelpose::learn::square_around(kPersonBox);
+  write("BM_SinglePerson_lightning.png", "movenet-lightning",
+        wheelpose::learn::crop_image(rgb, crop, 192));
+  write("BM_SinglePerson_thunder.png", "movenet-thunder",
+        wheelpose::learn::crop_image(rgb, crop, 256));
+  wheelpose::write_file_atomic(dir / "manifest.json", manifest.dump(2) + "\n");
+}
+
 }  // namespace
+
+// Heap tuning as `wheelpose predict` does it (core/allocator.h).
+int main(int argc, char** argv) {
+  if (argc == 3 && std::strcmp(argv[1], "--write-tfjs-inputs") == 0) {
+    try {
+      write_tfjs_inputs(argv[2]);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "error: %s\n", e.what());
+      return 1;
+    }
+    return 0;
+  }
+  wheelpose::retain_freed_memory();
+  wheelpose::retain_large_blocks();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

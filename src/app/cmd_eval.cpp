@@ -29,6 +29,7 @@ struct EvalOptions {
   std::string baseline;
   std::string out;
   int viz = 0;
+  eval::VizPick viz_pick = eval::VizPick::kSpread;
   std::string images;
 };
 
@@ -105,6 +106,7 @@ void run_eval(const EvalOptions& o) {
   if (o.viz > 0) {
     eval::VizOptions viz;
     viz.count = o.viz;
+    viz.pick = o.viz_pick;
     viz.images_dir = o.images;
     viz.out_dir = out / "viz";
     const auto files = eval::write_overlays(gt, *ours_results, base_results.get(), t, viz);
@@ -132,6 +134,10 @@ void attach_eval(CLI::App& parent) {
   cmd->add_option("--out", options->out, "Directory for metrics.json, comparison.md and viz/");
   cmd->add_option("--viz", options->viz, "Draw this many evenly spaced GT images into OUT/viz")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--viz-pick", options->viz_pick,
+                  "Which images --viz draws: spread (evenly spaced), best or worst (mean OKS of "
+                  "each image's people against their best detection)")
+      ->transform(CLI::CheckedTransformer(eval::viz_pick_names()));
   cmd->add_option("--images", options->images, "Directory holding the GT images (for --viz)");
   cmd->callback([options] { run_eval(*options); });
 }

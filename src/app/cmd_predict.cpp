@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "core/allocator.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "eval/coco_data.h"
@@ -39,11 +40,12 @@ struct PredictCommandOptions {
   std::string images;
   std::string detections;
   std::string out;
-  int size = 512;
+  int size = 640;
   double min_score = 0.05;
   int threads = 0;
   std::string viz;
   int viz_count = 8;
+  eval::VizPick viz_pick = eval::VizPick::kSpread;
 };
 
 struct ImageJob {
@@ -150,6 +152,7 @@ void run_predict(const PredictCommandOptions& o) {
   std::optional<eval::CocoGroundTruth> gt;
   if (!o.coco.empty()) gt = eval::load_coco_gt(o.coco, 17, false);
   std::vector<ImageJob> jobs = list_images(o, gt);
+  retain_large_blocks();  // multipose's per-image activations exceed 32 MiB at 512 px and above
   const learn::PosePredictor predictor(
       model, {.longer_side = o.size, .min_score = o.min_score, .threads = o.threads});
   if (!predictor.multi_person()) attach_boxes(o, gt, jobs);
@@ -177,9 +180,12 @@ void run_predict(const PredictCommandOptions& o) {
   if (!o.viz.empty()) {
     const eval::KeypointTemplate t = eval::load_keypoint_template("coco17");
     const eval::CocoResults ours = eval::load_coco_results(o.out, *gt, t.size());
-    const auto written = eval::write_overlays(
-        *gt, ours, nullptr, t,
-        {.count = o.viz_count, .images_dir = o.images, .out_dir = o.viz, .min_score = 0.3});
+    const auto written = eval::write_overlays(*gt, ours, nullptr, t,
+                                              {.count = o.viz_count,
+                                               .pick = o.viz_pick,
+                                               .images_dir = o.images,
+                                               .out_dir = o.viz,
+                                               .min_score = 0.3});
     spdlog::info("predict: {} overlays in {}", written.size(), o.viz);
   }
 }
@@ -209,7 +215,10 @@ void attach_predict(CLI::App& parent) {
   cmd->add_option("--threads", options->threads, "Threads (0 = every core)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--viz", options->viz, "Write overlays of GT and predictions into this folder");
-  cmd->add_option("--viz-count", options->viz_count, "How many overlays (evenly spaced)")
+  cmd->add_option("--viz-pick", options->viz_pick,
+                  "Which images --viz draws: spread (evenly spaced), best or worst (by mean OKS)")
+      ->transform(CLI::CheckedTransformer(eval::viz_pick_names()));
+  cmd->add_option("--viz-count", options->viz_count, "How many overlays")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->callback([options] { run_predict(*options); });

@@ -14,4 +14,6 @@ bool retain_freed_memory() {
   return ok;
 }
 
+bool retain_large_blocks() { return mallopt(M_MMAP_MAX, 0) == 1; }
+
 }  // namespace wheelpose

@@ -10,4 +10,10 @@ namespace wheelpose {
 // working set. Call once at the start of main(); returns false if glibc refused a setting.
 bool retain_freed_memory();
 
+// Also keeps blocks larger than 32 MiB in the heap (no mmap at all). For programs whose working
+// set repeats per item with blocks above glibc's 32 MiB cap, such as a pose model at 512 px
+// (two 36 MiB activations per image: mapping and zero-filling them afresh costs 165 → 48 ms per
+// image). Call after retain_freed_memory(); returns false if glibc refused.
+bool retain_large_blocks();
+
 }  // namespace wheelpose

@@ -24,5 +24,20 @@ TEST(Allocator, FrameSizedBlocksComeFromTheHeapAfterTuning) {
   EXPECT_GE(heap_free, kFrame);  // kept for reuse, not trimmed
 }
 
+// With large blocks retained too, a block above glibc's 32 MiB mmap cap is heap memory as well.
+// Runs last in this file: the setting is process-wide.
+TEST(Allocator, LargeBlocksComeFromTheHeapWhenRetained) {
+  ASSERT_TRUE(retain_freed_memory());
+  ASSERT_TRUE(retain_large_blocks());
+  constexpr std::size_t kActivation = 36u << 20;  // multipose at 512 px
+  const std::size_t mapped_before = mallinfo2().hblkhd;
+  void* block = std::malloc(kActivation);
+  ASSERT_NE(block, nullptr);
+  std::memset(block, 1, kActivation);
+  EXPECT_EQ(mallinfo2().hblkhd, mapped_before);
+  std::free(block);
+  EXPECT_GE(mallinfo2().fordblks, kActivation);
+}
+
 }  // namespace
 }  // namespace wheelpose

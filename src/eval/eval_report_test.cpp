@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "eval/eval_viz.h"
+#include "eval/keypoint_template.h"
+#include "eval/test_fixtures.h"
 
 namespace wheelpose::eval {
 namespace {
@@ -75,6 +79,30 @@ TEST(EvalVizTest, EvenlySpacedPicks) {
   EXPECT_EQ(evenly_spaced(10, 3), (std::vector<int>{0, 3, 6}));
   EXPECT_EQ(evenly_spaced(2, 5), (std::vector<int>{0, 1}));
   EXPECT_TRUE(evenly_spaced(4, 0).empty());
+}
+
+// Image 1: one person found exactly (1.0). Image 2: one exact, one missed (0.5). Image 3: a
+// person the only detection misses by far (~0). Image 4: no people (no score, never ranked).
+TEST(EvalVizTest, ImagesRankedByHowWellTheirPeopleAreFound) {
+  using namespace fixtures;
+  const CocoGroundTruth gt = parse_coco_gt(
+      gt_file({1, 2, 3, 4}, {gt_person(1, 1, 10, 10, 3200), gt_person(2, 2, 10, 10, 3200),
+                             gt_person(3, 2, 200, 10, 3200), gt_person(4, 3, 10, 10, 3200)}),
+      "gt", 17, true);
+  const CocoResults results =
+      parse_coco_results(json_list({kp_result(1, 10, 10, 0.9), kp_result(2, 10, 10, 0.9),
+                                    kp_result(3, 300, 300, 0.9), kp_result(4, 10, 10, 0.9)}),
+                         "dt", gt, 17);
+  const std::vector<double> scores =
+      image_pose_scores(gt, results, load_keypoint_template("coco17"));
+  ASSERT_EQ(scores.size(), 4u);
+  EXPECT_DOUBLE_EQ(scores[0], 1.0);
+  EXPECT_DOUBLE_EQ(scores[1], 0.5);
+  EXPECT_LT(scores[2], 1e-6);
+  EXPECT_TRUE(std::isnan(scores[3]));
+  EXPECT_EQ(ranked_positions(scores, 2, VizPick::kBest), (std::vector<int>{0, 1}));
+  EXPECT_EQ(ranked_positions(scores, 5, VizPick::kWorst), (std::vector<int>{2, 1, 0}));
+  EXPECT_TRUE(ranked_positions(scores, 0, VizPick::kBest).empty());
 }
 
 }  // namespace

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "eval/oks_iou.h"
 
 namespace wheelpose::eval {
 namespace {
@@ -52,6 +54,12 @@ void draw_detections(cv::Mat& image, const CocoResults& results, std::int64_t im
 
 }  // namespace
 
+const std::map<std::string, VizPick>& viz_pick_names() {
+  static const std::map<std::string, VizPick> names = {
+      {"spread", VizPick::kSpread}, {"best", VizPick::kBest}, {"worst", VizPick::kWorst}};
+  return names;
+}
+
 std::vector<int> evenly_spaced(int n, int count) {
   std::vector<int> out;
   const int m = std::min(n, std::max(count, 0));
@@ -61,6 +69,45 @@ std::vector<int> evenly_spaced(int n, int count) {
   return out;
 }
 
+std::vector<double> image_pose_scores(const CocoGroundTruth& gt, const CocoResults& results,
+                                      const KeypointTemplate& t) {
+  const std::vector<double> vars = oks_vars(t);
+  std::vector<double> sum(gt.images.size(), 0.0);
+  std::vector<int> people(gt.images.size(), 0);
+  std::vector<std::vector<const Detection*>> in_image(gt.images.size());
+  for (const Detection& d : results.detections) {
+    const int position = gt.image_position(d.image_id);
+    if (position >= 0 && !d.keypoints.empty()) in_image[position].push_back(&d);
+  }
+  for (const GtAnnotation& g : gt.annotations) {
+    const int position = gt.image_position(g.image_id);
+    if (position < 0 || g.iscrowd || g.num_keypoints <= 0) continue;
+    double best = 0;
+    for (const Detection* d : in_image[position]) {
+      best = std::max(best, compute_oks(g, d->keypoints, vars));
+    }
+    sum[position] += best;
+    ++people[position];
+  }
+  std::vector<double> scores(gt.images.size(), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t i = 0; i < scores.size(); ++i) {
+    if (people[i] > 0) scores[i] = sum[i] / people[i];
+  }
+  return scores;
+}
+
+std::vector<int> ranked_positions(const std::vector<double>& scores, int count, VizPick pick) {
+  std::vector<int> positions;
+  for (std::size_t i = 0; i < scores.size(); ++i) {
+    if (!std::isnan(scores[i])) positions.push_back(static_cast<int>(i));
+  }
+  std::stable_sort(positions.begin(), positions.end(), [&](int a, int b) {
+    return pick == VizPick::kWorst ? scores[a] < scores[b] : scores[a] > scores[b];
+  });
+  positions.resize(std::min<std::size_t>(positions.size(), std::max(count, 0)));
+  return positions;
+}
+
 std::vector<std::filesystem::path> write_overlays(const CocoGroundTruth& gt,
                                                   const CocoResults& ours,
                                                   const CocoResults* baseline,
@@ -68,7 +115,12 @@ std::vector<std::filesystem::path> write_overlays(const CocoGroundTruth& gt,
                                                   const VizOptions& options) {
   std::vector<std::filesystem::path> written;
   ensure_directory(options.out_dir);
-  for (int position : evenly_spaced(static_cast<int>(gt.images.size()), options.count)) {
+  const std::vector<int> positions =
+      options.pick == VizPick::kSpread
+          ? evenly_spaced(static_cast<int>(gt.images.size()), options.count)
+          : ranked_positions(image_pose_scores(gt, ours, t), options.count, options.pick);
+  for (std::size_t rank = 0; rank < positions.size(); ++rank) {
+    const int position = positions[rank];
     const GtImage& info = gt.images[position];
     if (info.file_name.empty()) {
       throw Error(gt.source + ": image id " + std::to_string(info.id) +
@@ -95,8 +147,13 @@ std::vector<std::filesystem::path> write_overlays(const CocoGroundTruth& gt,
     if (!cv::imencode(".jpg", image, encoded)) {
       throw Error("cannot encode overlay for " + source.string(), ErrorKind::kFailure);
     }
+    // Ranked picks carry their rank first so a folder listing shows them in order.
+    const std::string prefix =
+        options.pick == VizPick::kSpread
+            ? ""
+            : (options.pick == VizPick::kBest ? "best" : "worst") + std::to_string(rank + 1) + "_";
     const auto target =
-        options.out_dir / (std::filesystem::path(info.file_name).stem().string() + ".jpg");
+        options.out_dir / (prefix + std::filesystem::path(info.file_name).stem().string() + ".jpg");
     write_file_atomic(target, std::span<const std::uint8_t>(encoded.data(), encoded.size()));
     written.push_back(target);
   }

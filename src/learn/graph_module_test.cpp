@@ -2,7 +2,6 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <malloc.h>
 
 #include <chrono>
 #include <cmath>
@@ -362,11 +361,9 @@ TEST_F(Models, SinglePersonKeypointsLandOnTheSkier) {
 // Forward timings (ms/image, batch 1, 2 threads) on an idle machine. Run with
 // --gtest_also_run_disabled_tests --gtest_filter='*Timing*'.
 TEST_F(Models, DISABLED_Timing) {
-  // As the command's main() does, plus no mmap at all: retain_freed_memory() keeps blocks up to
-  // 32 MiB, but multipose at 512 allocates two 36 MiB activations per run, whose fresh pages
-  // alone cost ~110 ms.
+  // As `wheelpose predict` does (core/allocator.h).
   retain_freed_memory();
-  mallopt(M_MMAP_MAX, 0);
+  retain_large_blocks();
   struct Case {
     const char* model;
     std::int64_t size;

@@ -24,7 +24,7 @@ struct PosePrediction {
 };
 
 struct PredictOptions {
-  int longer_side = 512;    // multipose input: the image's longer side, a multiple of 32
+  int longer_side = 640;    // multipose input: the image's longer side, a multiple of 32
   double min_score = 0.05;  // multipose: people scoring less are dropped
   int threads = 0;          // intra-op threads; 0 = every core
 };
