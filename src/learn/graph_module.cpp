@@ -625,17 +625,19 @@ torch::Tensor GraphModule::parameter(const std::string& node_name) const {
 }
 
 void GraphModule::set_capture(std::vector<std::string> names) {
-  plan_for(names);  // validates
+  plan_for(names, true);  // validates
   capture_ = std::move(names);
 }
 
-const GraphModule::Plan& GraphModule::plan_for(const std::vector<std::string>& capture) {
-  std::string key;
+const GraphModule::Plan& GraphModule::plan_for(const std::vector<std::string>& capture,
+                                               bool with_outputs) {
+  std::string key = with_outputs ? "outputs\n" : "only\n";
   for (const std::string& name : capture) key += name + '\n';
   if (auto it = plans_.find(key); it != plans_.end()) return it->second;
 
   Plan plan;
   for (const SignatureTensor& out : model_.outputs) {
+    if (!with_outputs) break;
     plan.names.push_back(out.name);
     plan.refs.push_back(out.ref);
   }
@@ -681,7 +683,15 @@ TensorMap GraphModule::forward(const torch::Tensor& input) { return forward(inpu
 
 TensorMap GraphModule::forward(const torch::Tensor& input,
                                const std::vector<std::string>& capture) {
-  const Plan& plan = plan_for(capture);
+  return run(input, plan_for(capture, true), false);
+}
+
+TensorMap GraphModule::forward_only(const torch::Tensor& input,
+                                    const std::vector<std::string>& names) {
+  return run(input, plan_for(names, false), true);
+}
+
+TensorMap GraphModule::run(const torch::Tensor& input, const Plan& plan, bool any_batch) {
   const SignatureTensor& sig = model_.inputs[0];
   const GraphNode& placeholder = model_.nodes[sig.ref.node];
   std::vector<std::int64_t> expected = sig.shape;
@@ -691,7 +701,8 @@ TensorMap GraphModule::forward(const torch::Tensor& input,
   bool fits = input.defined() &&
               (expected.empty() || input.dim() == static_cast<std::int64_t>(expected.size()));
   for (std::size_t d = 0; fits && d < expected.size(); ++d) {
-    fits = expected[d] < 0 || expected[d] == input.size(static_cast<std::int64_t>(d));
+    fits = expected[d] < 0 || expected[d] == input.size(static_cast<std::int64_t>(d)) ||
+           (d == 0 && any_batch);
   }
   if (!fits) {
     std::string want;

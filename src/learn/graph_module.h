@@ -45,6 +45,10 @@ class GraphModule : public torch::nn::Module {
   TensorMap forward(const torch::Tensor& input);
   TensorMap forward(const torch::Tensor& input, const std::vector<std::string>& capture);
 
+  // Only the named internal tensors, for training: the signature outputs and the decoding
+  // behind them are not computed, so the batch (dimension 0) may hold any number of images.
+  TensorMap forward_only(const torch::Tensor& input, const std::vector<std::string>& names);
+
   // Internal tensors ("node" or "node:k") that forward(input) also returns. Unknown names
   // throw Error naming the model file.
   void set_capture(std::vector<std::string> names);
@@ -81,7 +85,8 @@ class GraphModule : public torch::nn::Module {
     std::vector<TensorRef> refs;            // ... and the tensors they name
   };
   void compile();
-  const Plan& plan_for(const std::vector<std::string>& capture);
+  const Plan& plan_for(const std::vector<std::string>& capture, bool with_outputs);
+  TensorMap run(const torch::Tensor& input, const Plan& plan, bool any_batch);
 
   TfjsModel model_;
   bool channels_last_ = true;
