@@ -148,13 +148,15 @@ void run_predict(const PredictCommandOptions& o) {
   if (!o.viz.empty() && o.coco.empty()) throw Error("--viz needs --coco (the overlays draw GT)");
   std::optional<fs::path> models_dir;
   if (!o.models.empty()) models_dir = fs::path(o.models);
-  const fs::path model = learn::resolve_model(o.model, models_dir);
+  const learn::ModelChoice choice = learn::choose_model(o.model, models_dir);
+  const fs::path& model = choice.topology;
   std::optional<eval::CocoGroundTruth> gt;
   if (!o.coco.empty()) gt = eval::load_coco_gt(o.coco, 17, false);
   std::vector<ImageJob> jobs = list_images(o, gt);
   retain_large_blocks();  // multipose's per-image activations exceed 32 MiB at 512 px and above
   const learn::PosePredictor predictor(
-      model, {.longer_side = o.size, .min_score = o.min_score, .threads = o.threads});
+      model, {.longer_side = o.size, .min_score = o.min_score, .threads = o.threads},
+      choice.weights);
   if (!predictor.multi_person()) attach_boxes(o, gt, jobs);
   spdlog::info("predict: {} on {} images ({})", model.stem().string(), jobs.size(),
                predictor.multi_person()
@@ -196,8 +198,10 @@ void attach_predict(CLI::App& parent) {
   auto options = std::make_shared<PredictCommandOptions>();
   CLI::App* cmd = parent.add_subcommand(
       "predict", "Run a pretrained MoveNet pose model on images; write COCO results JSON");
-  cmd->add_option("--model", options->model,
-                  "movenet-multipose, movenet-lightning, movenet-thunder, or a TF.js .json path")
+  cmd->add_option(
+         "--model", options->model,
+         "movenet-multipose, movenet-lightning, movenet-thunder, a TF.js .json path, or a .pt "
+         "from wheelpose train")
       ->capture_default_str();
   cmd->add_option("--models", options->models,
                   "Folder of the models (default: $WHEELPOSE_MODELS, ./models, the checkout's)");

@@ -11,6 +11,7 @@ void attach_review(CLI::App& parent);
 void attach_coco(CLI::App& parent);
 void attach_stats(CLI::App& parent);
 void attach_predict(CLI::App& parent);
+void attach_train(CLI::App& parent);
 
 const std::vector<Command>& command_table() {
   static const std::vector<Command> table = {
@@ -23,6 +24,7 @@ const std::vector<Command>& command_table() {
       {"coco", attach_coco},
       {"stats", attach_stats},
       {"predict", attach_predict},
+      {"train", attach_train},
   };
   return table;
 }

@@ -3,6 +3,7 @@
 #include <cstdlib>
 
 #include "core/error.h"
+#include "learn/weights_file.h"
 
 namespace wheelpose::learn {
 namespace fs = std::filesystem;
@@ -70,6 +71,15 @@ fs::path resolve_model(const std::string& name_or_path, const std::optional<fs::
     throw Error(file.string() + ": model " + name_or_path + " is missing; " + kHowToGet);
   }
   return file;
+}
+
+ModelChoice choose_model(const std::string& name_or_path,
+                         const std::optional<fs::path>& models_dir) {
+  const fs::path as_path(name_or_path);
+  if (as_path.extension() != ".pt") return {resolve_model(name_or_path, models_dir), {}};
+  std::error_code ec;
+  if (!fs::is_regular_file(as_path, ec)) throw Error(name_or_path + ": no such weights file");
+  return {resolve_model(weights_model_name(as_path), models_dir), as_path};
 }
 
 }  // namespace wheelpose::learn

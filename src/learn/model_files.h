@@ -24,4 +24,15 @@ std::filesystem::path locate_models(const std::optional<std::filesystem::path>& 
 std::filesystem::path resolve_model(const std::string& name_or_path,
                                     const std::optional<std::filesystem::path>& models_dir);
 
+// A model to run: its topology and, for a fine-tuned `.pt`, the weights to load into it.
+struct ModelChoice {
+  std::filesystem::path topology;
+  std::optional<std::filesystem::path> weights;
+};
+
+// `name_or_path` as resolve_model takes it, or a `.pt` from `wheelpose train` (or
+// GraphModule::save), whose topology is found by the model name stored in it.
+ModelChoice choose_model(const std::string& name_or_path,
+                         const std::optional<std::filesystem::path>& models_dir);
+
 }  // namespace wheelpose::learn

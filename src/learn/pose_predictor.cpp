@@ -32,8 +32,10 @@ struct PosePredictor::Impl {
   int crop = 0;
   PredictOptions options;
 
-  Impl(const std::filesystem::path& model_json, const PredictOptions& o)
+  Impl(const std::filesystem::path& model_json, const PredictOptions& o,
+       const std::optional<std::filesystem::path>& weights)
       : graph(model_json), options(o) {
+    if (weights) graph.load(*weights);
     const TfjsModel& m = graph.graph();
     if (m.outputs.size() != 1 || m.inputs.size() != 1) {
       throw Error(model_json.string() +
@@ -63,8 +65,9 @@ struct PosePredictor::Impl {
   }
 };
 
-PosePredictor::PosePredictor(const std::filesystem::path& model_json, const PredictOptions& options)
-    : impl_(std::make_unique<Impl>(model_json, options)) {}
+PosePredictor::PosePredictor(const std::filesystem::path& model_json, const PredictOptions& options,
+                             const std::optional<std::filesystem::path>& weights)
+    : impl_(std::make_unique<Impl>(model_json, options, weights)) {}
 
 PosePredictor::~PosePredictor() = default;
 

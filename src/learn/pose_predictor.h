@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <vector>
 
 #include "eval/coco_data.h"
@@ -33,7 +34,9 @@ class PosePredictor {
  public:
   // `model_json`: a TF.js MoveNet topology. Throws Error for a file that does not load or a
   // model whose output is not MoveNet's.
-  PosePredictor(const std::filesystem::path& model_json, const PredictOptions& options);
+  // `weights`: a fine-tuned .pt of the same model to load (GraphModule::save).
+  PosePredictor(const std::filesystem::path& model_json, const PredictOptions& options,
+                const std::optional<std::filesystem::path>& weights = std::nullopt);
   ~PosePredictor();
   PosePredictor(const PosePredictor&) = delete;
   PosePredictor& operator=(const PosePredictor&) = delete;

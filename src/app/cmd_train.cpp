@@ -1,0 +1,102 @@
+// `wheelpose train`: fine-tune MoveNet MultiPose on COCO keypoint data (learn/trainer.h).
+
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/allocator.h"
+#include "core/error.h"
+#include "learn/model_files.h"
+#include "learn/trainer.h"
+#include "progress.h"
+
+namespace wheelpose::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct TrainCommandOptions {
+  std::vector<std::string> train;
+  std::string model = "movenet-multipose";
+  std::string models;
+  learn::TrainOptions run;
+  std::string out;
+};
+
+void run_train(TrainCommandOptions& c) {
+  learn::TrainOptions o = c.run;
+  for (const std::string& t : c.train) o.train.push_back(learn::parse_train_source(t));
+  std::optional<fs::path> models_dir;
+  if (!c.models.empty()) models_dir = fs::path(c.models);
+  const learn::ModelChoice choice = learn::choose_model(c.model, models_dir);
+  o.model_json = choice.topology;
+  o.init_weights = choice.weights;
+  o.out_dir = c.out;
+  retain_large_blocks();
+  Progress progress("train", "steps");
+  const learn::TrainResult result = learn::train(o, [&](const learn::StepReport& r) {
+    if (r.step % 10 == 0 || r.step == o.steps) {
+      spdlog::info(
+          "train: step {} loss {:.4f} (centre {:.3f}, heatmaps {:.3f}, regression {:.3f}, "
+          "offsets {:.3f}, box {:.3f}+{:.3f}), {:.1f} images/s",
+          r.step, r.loss, r.centre, r.keypoint_heatmap, r.keypoint_regression, r.keypoint_offset,
+          r.box_scale, r.box_offset, r.images_per_second);
+    }
+    progress(r.step, o.steps);
+  });
+  const int done = result.start_step + static_cast<int>(result.steps.size());
+  spdlog::info("train: {} of {} steps done; weights in {}", done, o.steps,
+               (fs::path(c.out) / "last.pt").string());
+}
+
+}  // namespace
+
+void attach_train(CLI::App& parent) {
+  auto c = std::make_shared<TrainCommandOptions>();
+  learn::TrainOptions& o = c->run;
+  CLI::App* cmd = parent.add_subcommand(
+      "train", "Fine-tune MoveNet MultiPose on COCO keypoint datasets (e.g. generated ones)");
+  cmd->add_option("--train", c->train,
+                  "COCO keypoints JSON, optionally :weight (images in images/ beside it or beside "
+                  "the file); repeat to mix datasets")
+      ->required();
+  cmd->add_option("--model", c->model, "Start from: movenet-multipose or a .pt from train")
+      ->capture_default_str();
+  cmd->add_option("--models", c->models, "Folder of the models (as for predict)");
+  cmd->add_option("--out", c->out, "Run folder: checkpoint.pt, last.pt, train_log.csv")->required();
+  cmd->add_option("--steps", o.steps, "Optimizer steps")->capture_default_str();
+  cmd->add_option("--batch", o.batch, "Images per step")->capture_default_str();
+  cmd->add_option("--lr", o.learning_rate, "Peak learning rate (AdamW)")->capture_default_str();
+  cmd->add_option("--weight-decay", o.weight_decay, "AdamW weight decay")->capture_default_str();
+  cmd->add_option("--warmup", o.warmup_steps, "Linear warm-up steps, then cosine decay")
+      ->capture_default_str();
+  cmd->add_option("--freeze-backbone", o.freeze_backbone_steps,
+                  "Train only the heads for the first N steps")
+      ->capture_default_str();
+  cmd->add_option("--clip", o.clip_norm, "Gradient L2 norm cap")->capture_default_str();
+  cmd->add_option("--checkpoint-every", o.checkpoint_every, "Steps between checkpoints")
+      ->capture_default_str();
+  cmd->add_option("--input-size", o.augment.input_size, "Square training input (x32)")
+      ->capture_default_str();
+  cmd->add_option("--people-scale", o.augment.target_longer_side,
+                  "Show people at the scale predict --size N sees them")
+      ->capture_default_str();
+  cmd->add_option("--loader-threads", o.loader_threads, "Batches prepared ahead in parallel")
+      ->capture_default_str();
+  cmd->add_option("--threads", o.threads, "Torch threads (0 = every core)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--seed", o.seed, "Seed of the image draws and augmentations")
+      ->capture_default_str();
+  cmd->add_flag("--resume", o.resume, "Continue the run in --out from its checkpoint");
+  cmd->add_option("--stop-after", o.stop_after,
+                  "Stop with a checkpoint after this many steps (continue with --resume)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->callback([c] { run_train(*c); });
+}
+
+}  // namespace wheelpose::app

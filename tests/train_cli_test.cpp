@@ -1,0 +1,117 @@
+// End-to-end tests of `wheelpose train`: a stopped run resumed continues exactly, its weights
+// load in `predict`, and bad input is one line that leaves earlier checkpoints untouched.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "cli_runner.h"
+
+namespace {
+
+using nlohmann::json;
+using wheelpose::testing::fresh_temp_dir;
+using wheelpose::testing::read_text;
+using wheelpose::testing::run_wheelpose;
+namespace fs = std::filesystem;
+
+fs::path sample_dir() { return fs::path(WHEELPOSE_SHARED_DIR) / "data" / "coco-sample"; }
+
+bool have_models() {
+  return fs::exists(fs::path(WHEELPOSE_SOURCE_DIR) / "models" / "movenet-multipose.json");
+}
+
+// The COCO sample's one shipped image and its people, copied into `dir` as a dataset.
+fs::path write_sample_dataset(const fs::path& dir) {
+  json gt = json::parse(read_text(sample_dir() / "person_keypoints_sample.json"));
+  json images = json::array(), annotations = json::array();
+  for (const json& image : gt["images"]) {
+    if (image["file_name"] == "000000000785.jpg") images.push_back(image);
+  }
+  for (const json& a : gt["annotations"]) {
+    if (a["image_id"] == images.at(0)["id"]) annotations.push_back(a);
+  }
+  gt["images"] = images;
+  gt["annotations"] = annotations;
+  fs::copy_file(sample_dir() / "000000000785.jpg", dir / "000000000785.jpg");
+  std::ofstream(dir / "gt.json") << gt.dump();
+  return dir / "gt.json";
+}
+
+// Small and single-threaded so the two runs do the same float operations in the same order.
+std::string small_run(const fs::path& gt, const fs::path& out) {
+  return "train --train " + gt.string() + " --out " + out.string() +
+         " --steps 4 --batch 2 --input-size 128 --checkpoint-every 2 --warmup 2 --threads 1 "
+         "--seed 3";
+}
+
+// train_log.csv without the images/s column (wall-clock).
+std::string log_without_speed(const fs::path& path) {
+  std::istringstream in(read_text(path));
+  std::string line, out;
+  while (std::getline(in, line)) out += line.substr(0, line.rfind(',')) + "\n";
+  return out;
+}
+
+TEST(TrainCli, StoppedRunResumesExactlyAndItsWeightsPredict) {
+  if (!have_models()) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
+  const auto dir = fresh_temp_dir("train_resume");
+  const fs::path gt = write_sample_dataset(dir);
+  auto r = run_wheelpose(small_run(gt, dir / "whole"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_wheelpose(small_run(gt, dir / "parts") + " --stop-after 1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(log_without_speed(dir / "parts" / "train_log.csv").find("\n2,"), std::string::npos);
+  r = run_wheelpose(small_run(gt, dir / "parts") + " --resume");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(read_text(dir / "whole" / "last.pt"), read_text(dir / "parts" / "last.pt"));
+  EXPECT_EQ(log_without_speed(dir / "whole" / "train_log.csv"),
+            log_without_speed(dir / "parts" / "train_log.csv"));
+  // Four rows and a header, every loss finite.
+  const std::string log = log_without_speed(dir / "whole" / "train_log.csv");
+  EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 5);
+  EXPECT_EQ(log.find("nan"), std::string::npos) << log;
+
+  r = run_wheelpose("predict --model " + (dir / "whole" / "last.pt").string() + " --coco " +
+                    gt.string() + " --images " + dir.string() + " --out " +
+                    (dir / "results.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(json::parse(read_text(dir / "results.json")).is_array());
+}
+
+TEST(TrainCli, BadInputIsOneLineAndLeavesTheCheckpoint) {
+  if (!have_models()) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
+  const auto dir = fresh_temp_dir("train_bad");
+  const fs::path gt = write_sample_dataset(dir);
+
+  std::ofstream(dir / "empty.json") << "";
+  auto r = run_wheelpose("train --train " + (dir / "empty.json").string() + " --out " +
+                         (dir / "x").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("empty.json"), std::string::npos) << r.output;
+
+  json no_image = json::parse(read_text(gt));
+  no_image["images"][0]["file_name"] = "missing.jpg";
+  std::ofstream(dir / "no_image.json") << no_image.dump();
+  r = run_wheelpose("train --train " + (dir / "no_image.json").string() + " --out " +
+                    (dir / "y").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("missing.jpg"), std::string::npos) << r.output;
+
+  r = run_wheelpose(small_run(gt, dir / "run") + " --stop-after 1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string checkpoint = read_text(dir / "run" / "checkpoint.pt");
+  r = run_wheelpose(small_run(gt, dir / "run") + " --lr 0.001 --resume");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("other settings"), std::string::npos) << r.output;
+  r = run_wheelpose(small_run(gt, dir / "run"));  // no --resume: refuses to overwrite
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("--resume"), std::string::npos) << r.output;
+  EXPECT_EQ(read_text(dir / "run" / "checkpoint.pt"), checkpoint);
+}
+
+}  // namespace
