@@ -1,0 +1,42 @@
+#include "learn/movenet_targets.h"
+
+#include <gtest/gtest.h>
+
+namespace wheelpose::learn {
+namespace {
+
+// A 40×80 px person at (42, 40) in a 128 px input: grid 32, centre (62, 80) px = cell (20, 15)
+// with offset (0, 0.5); keypoint 0 at (50.5, 45) px = (11.25, 12.625) cells.
+TEST(MovenetTargets, GoldenValuesForOnePerson) {
+  TrainPerson p;
+  p.box = {42, 40, 40, 80};
+  p.keypoints[0] = 50.5, p.keypoints[1] = 45, p.keypoints[2] = 2;
+  p.keypoints[3 * 5] = 60, p.keypoints[3 * 5 + 1] = 70, p.keypoints[3 * 5 + 2] = 1;
+  const MovenetTargets t = build_targets({p}, 128);
+  ASSERT_EQ(t.grid, 32);
+  ASSERT_EQ(t.centres.size(), 1u);
+  const CentreTarget& c = t.centres[0];
+  EXPECT_EQ(c.cell, 20 * 32 + 15);
+  EXPECT_FLOAT_EQ(c.scale[0], 20);  // h in cells
+  EXPECT_FLOAT_EQ(c.scale[1], 10);
+  EXPECT_FLOAT_EQ(c.offset[0], 0);
+  EXPECT_FLOAT_EQ(c.offset[1], 0.5);
+  EXPECT_FLOAT_EQ(c.regress[0], 11.25 - 20);  // keypoint 0: dy, dx from the centre cell
+  EXPECT_FLOAT_EQ(c.regress[1], 12.625 - 15);
+  EXPECT_EQ(c.regress_mask[0], 1);
+  EXPECT_EQ(c.regress_mask[1], 0);  // unlabelled
+  EXPECT_EQ(c.regress_mask[5], 1);  // v = 1 trains too
+  ASSERT_EQ(t.keypoints.size(), 2u);
+  EXPECT_EQ(t.keypoints[0].cell, 11 * 32 + 12);
+  EXPECT_FLOAT_EQ(t.keypoints[0].offset[0], 0.25);
+  EXPECT_FLOAT_EQ(t.keypoints[0].offset[1], 0.625);
+  // Peaks are exactly 1 where the focal loss counts positives, below 1 around them.
+  EXPECT_EQ(t.centre_heatmap[20 * 32 + 15], 1.f);
+  EXPECT_GT(t.centre_heatmap[20 * 32 + 16], 0.5f);
+  EXPECT_LT(t.centre_heatmap[20 * 32 + 16], 1.f);
+  EXPECT_EQ(t.keypoint_heatmap[(11 * 32 + 12) * 17 + 0], 1.f);
+  EXPECT_EQ(t.keypoint_heatmap[(11 * 32 + 12) * 17 + 1], 0.f);  // other channel untouched
+}
+
+}  // namespace
+}  // namespace wheelpose::learn
