@@ -78,6 +78,9 @@ void attach_train(CLI::App& parent) {
   cmd->add_option("--freeze-backbone", o.freeze_backbone_steps,
                   "Train only the heads for the first N steps")
       ->capture_default_str();
+  cmd->add_option("--backbone-lr-scale", o.backbone_lr_scale,
+                  "The backbone's learning rate relative to the heads'")
+      ->capture_default_str();
   cmd->add_option("--clip", o.clip_norm, "Gradient L2 norm cap")->capture_default_str();
   cmd->add_option("--checkpoint-every", o.checkpoint_every, "Steps between checkpoints")
       ->capture_default_str();

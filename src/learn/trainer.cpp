@@ -279,6 +279,7 @@ std::string resume_key(const TrainOptions& o) {
       {"weight_decay", o.weight_decay},
       {"warmup_steps", o.warmup_steps},
       {"freeze_backbone_steps", o.freeze_backbone_steps},
+      {"backbone_lr_scale", o.backbone_lr_scale},
       {"clip_norm", o.clip_norm},
       {"seed", o.seed},
       {"augment",
@@ -308,8 +309,24 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
   }
   if (o.init_weights) model.load(*o.init_weights);
   model.train();
+  // Two groups: the heads, and the backbone at backbone_lr_scale of their rate (its folded
+  // batch norm makes it far more sensitive to a step than the heads are).
+  std::vector<Tensor> head_params, backbone_params;
+  std::vector<std::pair<std::string, Tensor>> backbone;
+  for (const auto& p : model.named_parameters()) {
+    const bool in_backbone = p.key().find("feature_extractor") != std::string::npos;
+    (in_backbone ? backbone_params : head_params).push_back(p.value());
+    if (in_backbone) backbone.emplace_back(p.key(), p.value());
+  }
+  const torch::optim::AdamWOptions group_options =
+      torch::optim::AdamWOptions(o.learning_rate).weight_decay(o.weight_decay);
   torch::optim::AdamW optimizer(
-      model.parameters(), torch::optim::AdamWOptions(o.learning_rate).weight_decay(o.weight_decay));
+      {torch::optim::OptimizerParamGroup(
+           head_params, std::make_unique<torch::optim::AdamWOptions>(group_options)),
+       torch::optim::OptimizerParamGroup(
+           backbone_params, std::make_unique<torch::optim::AdamWOptions>(group_options))},
+      group_options);
+  const std::vector<double> group_scale = {1.0, o.backbone_lr_scale};
 
   ensure_directory(o.out_dir);
   const std::string key = resume_key(o);
@@ -327,12 +344,6 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
   const fs::path log_path = o.out_dir / "train_log.csv";
   std::string log = log_prefix(log_path, result.start_step);
 
-  std::vector<std::pair<std::string, Tensor>> backbone;
-  for (const auto& p : model.named_parameters()) {
-    if (p.key().find("feature_extractor") != std::string::npos) {
-      backbone.emplace_back(p.key(), p.value());
-    }
-  }
   std::deque<std::future<Batch>> ahead;
   int next_to_load = result.start_step;
   auto fill = [&] {
@@ -350,8 +361,9 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
     const bool frozen = step < o.freeze_backbone_steps;
     for (auto& [name, p] : backbone) p.requires_grad_(!frozen);
     const double lr = learning_rate_at(o, step);
-    for (auto& group : optimizer.param_groups()) {
-      static_cast<torch::optim::AdamWOptions&>(group.options()).lr(lr);
+    for (std::size_t g = 0; g < optimizer.param_groups().size(); ++g) {
+      static_cast<torch::optim::AdamWOptions&>(optimizer.param_groups()[g].options())
+          .lr(lr * group_scale[g]);
     }
     optimizer.zero_grad();
     const TensorMap heads = model.forward_only(batch.images, kHeads);
