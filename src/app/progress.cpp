@@ -25,9 +25,10 @@ void Progress::operator()(std::int64_t done, std::int64_t total) {
   if (tty_) {
     const int width = 30;
     const int filled = total > 0 ? static_cast<int>(width * done / total) : width;
-    std::fprintf(stderr, "\r[%s%s] %lld/%lld  %.2f img/s  ETA %.0f s ",
+    std::fprintf(stderr, "\r[%s%s] %lld/%lld  %.2f %s/s  ETA %.0f s ",
                  std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(),
-                 static_cast<long long>(done), static_cast<long long>(total), rate, eta);
+                 static_cast<long long>(done), static_cast<long long>(total), rate, unit_.c_str(),
+                 eta);
     if (done == total) std::fprintf(stderr, "\n");
     std::fflush(stderr);
     return;
@@ -36,7 +37,7 @@ void Progress::operator()(std::int64_t done, std::int64_t total) {
   if (decile > last_decile_ || elapsed - last_line_ >= 30 || done == total) {
     last_decile_ = decile;
     last_line_ = elapsed;
-    spdlog::info("{}: {}/{} {}, {:.2f} images/s, ETA {:.0f} s", what_, done, total, unit_, rate,
+    spdlog::info("{}: {}/{} {}, {:.2f} {}/s, ETA {:.0f} s", what_, done, total, unit_, rate, unit_,
                  eta);
   }
 }

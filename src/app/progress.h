@@ -1,6 +1,6 @@
 #pragma once
 // Progress of a long command: a bar with rate and ETA on a terminal; a log line every 10 % (or
-// 30 s) otherwise, e.g. "generate: 10/100 frames, 2.17 images/s, ETA 41 s".
+// 30 s) otherwise, e.g. "generate: 10/100 frames, 2.17 frames/s, ETA 41 s".
 
 #include <chrono>
 #include <cstdint>

@@ -121,8 +121,7 @@ TrainSample augment(const cv::Mat& rgb, const std::vector<TrainPerson>& people,
   const double base = static_cast<double>(o.target_longer_side) / std::max(rgb.cols, rgb.rows);
   const double scale =
       base * std::exp(random.uniform(std::log(o.scale_min), std::log(o.scale_max)));
-  // The person's centre lands anywhere in the middle half of the input.
-  const double shift = o.input_size / 4.0 / scale;
+  const double shift = o.input_size * o.shift_fraction / scale;
   const cv::Point2d centre(anchor.box.x + anchor.box.w / 2 + random.uniform(-shift, shift),
                            anchor.box.y + anchor.box.h / 2 + random.uniform(-shift, shift));
   const double degrees = random.uniform(-o.rotate_degrees, o.rotate_degrees);

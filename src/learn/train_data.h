@@ -49,7 +49,8 @@ struct AugmentOptions {
   // `target_longer_side`, times a random factor in [scale_min, scale_max] (log-uniform).
   int target_longer_side = 640;
   double scale_min = 0.7, scale_max = 1.4;
-  double rotate_degrees = 15;  // uniform in ±this
+  double shift_fraction = 0.25;  // the person's centre lands within ± this × input of the middle
+  double rotate_degrees = 15;    // uniform in ±this
   double flip_probability = 0.5;
   double color_jitter = 0.3;  // brightness, contrast, saturation each × [1 - j, 1 + j]
   double blur_probability = 0.2;

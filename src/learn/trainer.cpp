@@ -269,22 +269,22 @@ std::string resume_key(const TrainOptions& o) {
   nlohmann::json sources = nlohmann::json::array();
   for (const TrainSource& s : o.train) sources.push_back({s.coco.string(), s.weight});
   const AugmentOptions& a = o.augment;
-  const nlohmann::json key = {
-      {"train", sources},
-      {"model", o.model_json.filename().string()},
-      {"init_weights", o.init_weights ? o.init_weights->string() : ""},
-      {"steps", o.steps},
-      {"batch", o.batch},
-      {"learning_rate", o.learning_rate},
-      {"weight_decay", o.weight_decay},
-      {"warmup_steps", o.warmup_steps},
-      {"freeze_backbone_steps", o.freeze_backbone_steps},
-      {"backbone_lr_scale", o.backbone_lr_scale},
-      {"clip_norm", o.clip_norm},
-      {"seed", o.seed},
-      {"augment",
-       {a.input_size, a.target_longer_side, a.scale_min, a.scale_max, a.rotate_degrees,
-        a.flip_probability, a.color_jitter, a.blur_probability, a.jpeg_probability}}};
+  const nlohmann::json key = {{"train", sources},
+                              {"model", o.model_json.filename().string()},
+                              {"init_weights", o.init_weights ? o.init_weights->string() : ""},
+                              {"steps", o.steps},
+                              {"batch", o.batch},
+                              {"learning_rate", o.learning_rate},
+                              {"weight_decay", o.weight_decay},
+                              {"warmup_steps", o.warmup_steps},
+                              {"freeze_backbone_steps", o.freeze_backbone_steps},
+                              {"backbone_lr_scale", o.backbone_lr_scale},
+                              {"clip_norm", o.clip_norm},
+                              {"seed", o.seed},
+                              {"augment",
+                               {a.input_size, a.target_longer_side, a.scale_min, a.scale_max,
+                                a.shift_fraction, a.rotate_degrees, a.flip_probability,
+                                a.color_jitter, a.blur_probability, a.jpeg_probability}}};
   return key.dump();
 }
 
