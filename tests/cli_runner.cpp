@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdio>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 namespace wheelpose::testing {
@@ -38,6 +39,28 @@ std::string read_text(const std::filesystem::path& path) {
   std::ostringstream buffer;
   buffer << in.rdbuf();
   return buffer.str();
+}
+
+std::filesystem::path coco_sample_dir() {
+  return std::filesystem::path(WHEELPOSE_SHARED_DIR) / "data" / "coco-sample";
+}
+
+std::filesystem::path write_coco_sample_gt(const std::filesystem::path& dir, bool copy_image) {
+  const std::string image_file = "000000000785.jpg";
+  nlohmann::json gt =
+      nlohmann::json::parse(read_text(coco_sample_dir() / "person_keypoints_sample.json"));
+  nlohmann::json images = nlohmann::json::array(), annotations = nlohmann::json::array();
+  for (const nlohmann::json& image : gt["images"]) {
+    if (image["file_name"] == image_file) images.push_back(image);
+  }
+  for (const nlohmann::json& a : gt["annotations"]) {
+    if (a["image_id"] == images.at(0)["id"]) annotations.push_back(a);
+  }
+  gt["images"] = images;
+  gt["annotations"] = annotations;
+  if (copy_image) std::filesystem::copy_file(coco_sample_dir() / image_file, dir / image_file);
+  std::ofstream(dir / "gt.json") << gt.dump();
+  return dir / "gt.json";
 }
 
 }  // namespace wheelpose::testing

@@ -21,4 +21,11 @@ std::filesystem::path fresh_temp_dir(const std::string& name);
 // The whole file as bytes ("" if it cannot be read).
 std::string read_text(const std::filesystem::path& path);
 
+// ../shared/data/coco-sample: a COCO keypoint file and one of its images, 000000000785.jpg.
+std::filesystem::path coco_sample_dir();
+
+// The sample's ground truth cut to that one image, written as `dir`/gt.json (returned); with
+// `copy_image` the image is copied into `dir` too, so `dir` is a dataset on its own.
+std::filesystem::path write_coco_sample_gt(const std::filesystem::path& dir, bool copy_image);
+
 }  // namespace wheelpose::testing

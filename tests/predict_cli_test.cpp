@@ -18,33 +18,16 @@ using wheelpose::testing::read_text;
 using wheelpose::testing::run_wheelpose;
 namespace fs = std::filesystem;
 
-fs::path sample_dir() { return fs::path(WHEELPOSE_SHARED_DIR) / "data" / "coco-sample"; }
+fs::path sample_dir() { return wheelpose::testing::coco_sample_dir(); }
 
 bool have_models() {
   return fs::exists(fs::path(WHEELPOSE_SOURCE_DIR) / "models" / "movenet-multipose.json");
 }
 
-// The sample's ground truth cut to the one image it ships.
-fs::path write_sample_gt(const fs::path& dir) {
-  json gt = json::parse(read_text(sample_dir() / "person_keypoints_sample.json"));
-  json images = json::array(), annotations = json::array();
-  for (const json& image : gt["images"]) {
-    if (image["file_name"] == "000000000785.jpg") images.push_back(image);
-  }
-  for (const json& a : gt["annotations"]) {
-    if (a["image_id"] == images.at(0)["id"]) annotations.push_back(a);
-  }
-  gt["images"] = images;
-  gt["annotations"] = annotations;
-  const fs::path path = dir / "gt.json";
-  std::ofstream(path) << gt.dump();
-  return path;
-}
-
 TEST(PredictCli, EveryModelFindsTheSkierAndEvalScoresIt) {
   if (!have_models()) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
   const auto dir = fresh_temp_dir("predict_models");
-  const fs::path gt = write_sample_gt(dir);
+  const fs::path gt = wheelpose::testing::write_coco_sample_gt(dir, false);
   for (const std::string model : {"movenet-multipose", "movenet-thunder", "movenet-lightning"}) {
     const fs::path out = dir / (model + ".json");
     auto r = run_wheelpose("predict --model " + model + " --coco " + gt.string() + " --images " +

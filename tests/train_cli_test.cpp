@@ -19,27 +19,8 @@ using wheelpose::testing::read_text;
 using wheelpose::testing::run_wheelpose;
 namespace fs = std::filesystem;
 
-fs::path sample_dir() { return fs::path(WHEELPOSE_SHARED_DIR) / "data" / "coco-sample"; }
-
 bool have_models() {
   return fs::exists(fs::path(WHEELPOSE_SOURCE_DIR) / "models" / "movenet-multipose.json");
-}
-
-// The COCO sample's one shipped image and its people, copied into `dir` as a dataset.
-fs::path write_sample_dataset(const fs::path& dir) {
-  json gt = json::parse(read_text(sample_dir() / "person_keypoints_sample.json"));
-  json images = json::array(), annotations = json::array();
-  for (const json& image : gt["images"]) {
-    if (image["file_name"] == "000000000785.jpg") images.push_back(image);
-  }
-  for (const json& a : gt["annotations"]) {
-    if (a["image_id"] == images.at(0)["id"]) annotations.push_back(a);
-  }
-  gt["images"] = images;
-  gt["annotations"] = annotations;
-  fs::copy_file(sample_dir() / "000000000785.jpg", dir / "000000000785.jpg");
-  std::ofstream(dir / "gt.json") << gt.dump();
-  return dir / "gt.json";
 }
 
 // Small and single-threaded so the two runs do the same float operations in the same order.
@@ -60,7 +41,7 @@ std::string log_without_speed(const fs::path& path) {
 TEST(TrainCli, StoppedRunResumesExactlyAndItsWeightsPredict) {
   if (!have_models()) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
   const auto dir = fresh_temp_dir("train_resume");
-  const fs::path gt = write_sample_dataset(dir);
+  const fs::path gt = wheelpose::testing::write_coco_sample_gt(dir, true);
   auto r = run_wheelpose(small_run(gt, dir / "whole"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   r = run_wheelpose(small_run(gt, dir / "parts") + " --stop-after 1");
@@ -86,7 +67,7 @@ TEST(TrainCli, StoppedRunResumesExactlyAndItsWeightsPredict) {
 TEST(TrainCli, BadInputIsOneLineAndLeavesTheCheckpoint) {
   if (!have_models()) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
   const auto dir = fresh_temp_dir("train_bad");
-  const fs::path gt = write_sample_dataset(dir);
+  const fs::path gt = wheelpose::testing::write_coco_sample_gt(dir, true);
 
   std::ofstream(dir / "empty.json") << "";
   auto r = run_wheelpose("train --train " + (dir / "empty.json").string() + " --out " +
