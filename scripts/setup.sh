@@ -10,7 +10,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libplplot-dev plplot-driver-cairo libminizip-dev zlib1g-dev
   libtorch-dev
-  chromium sweethome3d-furniture blender-data
+  chromium sweethome3d-furniture blender-data jq
 )
 
 missing=()

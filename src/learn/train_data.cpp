@@ -104,9 +104,9 @@ void jitter_colours(cv::Mat& rgb, RandomStream& random, double amount) {
   const double mean = cv::mean(grey)[0];
   cv::Mat grey3;
   cv::cvtColor(grey, grey3, cv::COLOR_GRAY2RGB);
-  f = grey3 + (f - grey3) * saturation;   // saturation around each pixel's grey
-  f = (f - mean) * contrast + mean;       // contrast around the image mean
-  f.convertTo(rgb, CV_8UC3, brightness);  // saturates to 0..255
+  cv::addWeighted(f, saturation, grey3, 1 - saturation, 0, f);  // around each pixel's grey
+  f.convertTo(f, -1, contrast, mean * (1 - contrast));          // around the image mean
+  f.convertTo(rgb, CV_8UC3, brightness);                        // saturates to 0..255
 }
 
 }  // namespace

@@ -1,0 +1,36 @@
+// The model-boosting experiment end to end at its --quick size: scripts/boost.sh generates a
+// training and a held-out test set, scores the pretrained model, fine-tunes it, scores it again
+// and writes the report.
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "cli_runner.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using wheelpose::testing::fresh_temp_dir;
+using wheelpose::testing::read_text;
+
+TEST(BoostScript, QuickRunWritesTheComparison) {
+  if (!fs::exists(fs::path(WHEELPOSE_SOURCE_DIR) / "models" / "movenet-multipose.json")) {
+    GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
+  }
+  const fs::path out = fresh_temp_dir("boost_quick") / "run";
+  const std::string command = "bash " + std::string(WHEELPOSE_SOURCE_DIR) +
+                              "/scripts/boost.sh --quick " + out.string() + " > " +
+                              (out.parent_path() / "log.txt").string() + " 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0) << read_text(out.parent_path() / "log.txt");
+  const std::string report = read_text(out / "report.md");
+  EXPECT_NE(report.find("| KP AP | "), std::string::npos) << report;
+  EXPECT_NE(report.find("| BB AP | "), std::string::npos) << report;
+  EXPECT_NE(report.find("No clip is shared"), std::string::npos) << report;
+  EXPECT_TRUE(fs::exists(out / "run" / "last.pt"));
+  EXPECT_TRUE(fs::exists(out / "finetuned.json"));
+}
+
+}  // namespace
