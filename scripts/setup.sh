@@ -11,6 +11,7 @@ packages=(
   libplplot-dev plplot-driver-cairo libminizip-dev zlib1g-dev
   libtorch-dev
   chromium sweethome3d-furniture blender-data
+  blender python3-numpy  # tests/blender: Blender headless; numpy for its glTF importer
 )
 
 missing=()
