@@ -41,6 +41,14 @@ if [ ! -d "$browser_tests/node_modules/playwright-core" ]; then
   (cd "$browser_tests" && npm ci --no-audit --no-fund)
 fi
 
+# The Blender import test also reads every exported FBX with FBX2glTF (npm fbx2gltf, a prebuilt
+# converter on the Autodesk FBX SDK), pinned by tests/blender/package-lock.json.
+blender_tests="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/tests/blender"
+if [ ! -d "$blender_tests/node_modules/fbx2gltf" ]; then
+  echo "setup: npm ci in tests/blender"
+  (cd "$blender_tests" && npm ci --no-audit --no-fund)
+fi
+
 # The TF.js reference (tests/tfjs_reference: regenerates the MoveNet fixture and times TF.js
 # beside our inference) runs @tensorflow/tfjs in node, pinned by its package-lock.json.
 tfjs_reference="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/tests/tfjs_reference"
