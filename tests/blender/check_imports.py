@@ -10,6 +10,7 @@ checked:
   * 23 bones named as the clip's joints;
   * one key per frame (per 1/60 s for the SDK's samples) on every rotation curve;
   * the keys span the clip's duration at the scene's frame rate;
+  * the skinned stick figure (fbx, glb) has a vertex within 1 mm of each wrist mid-clip;
   * both wrists' world positions within 1 mm of the clip at every frame and at every 1/60 s that
     falls on a frame; between frames (the other 1/60 s samples, and halfway between frames)
     within 1 mm of the clip's forward kinematics with its rotations slerped between frames, for
@@ -41,7 +42,7 @@ def patch_importers():
         return builtins.open(path, mode.replace("U", ""), *args, **kwargs)
 
     import_bvh.open = open_without_u
-    if not hasattr(numpy, "bool"):
+    if "bool" not in numpy.__dict__:  # (hasattr would warn)
         numpy.bool = bool
 
 
@@ -176,18 +177,41 @@ def check_file(clip, path, variant):
         if rate in tolerance and error > tolerance[rate]:
             failures.append(f"wrist {error * 1000:.3f} mm off at {rate} "
                             f"(tolerance {tolerance[rate] * 1000:g} mm)")
+    # The skinned stick figure follows the bones: its mesh, as Blender deforms it, has a vertex on
+    # each wrist (the tip of the forearm's glyph) at the middle frame.
+    meshes = [o for o in scene.objects if o.type == "MESH"]
+    skin_error = None
+    if meshes:
+        t = (clip.frames // 2) / clip.fps
+        frame = first + t * frames_per_second
+        scene.frame_set(int(math.floor(frame)), subframe=frame - math.floor(frame))
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        evaluated = meshes[0].evaluated_get(depsgraph)
+        vertices = [evaluated.matrix_world @ v.co for v in evaluated.to_mesh().vertices]
+        reference = clip.pose(t)
+        skin_error = max(min((v - to_blender(reference[clip.joints.index(name)])).length
+                             for v in vertices) for name in WRISTS)
+        evaluated.to_mesh_clear()
+        if skin_error > TOLERANCE_M:
+            failures.append(f"skinned mesh {skin_error * 1000:.3f} mm off the wrists")
+    elif variant.skinned:
+        failures.append("no mesh")
     summary = (f"{os.path.basename(path)}: "
                f"{len(bones)} bones, {max(rotation_keys or [0])} keys, "
                f"frames {first:g}-{last:g} at {scene_rate:g} fps; wrist error max "
                + ", ".join(f"{errors[rate] * 1000:.4f} mm ({rate}"
                            + ("" if rate in tolerance else ", reported only") + ")"
                            for rate in errors))
+    if skin_error is not None:
+        summary += f"; skinned mesh at the wrists {skin_error * 1000:.4f} mm"
     return summary, failures
 
 
 class Variant:
-    def __init__(self, extension, rotate_mode=None, baked_60=False, between_tolerance=None):
+    def __init__(self, extension, rotate_mode=None, baked_60=False, between_tolerance=None,
+                 skinned=True):
         self.extension = extension
+        self.skinned = skinned
         self.rotate_mode = rotate_mode
         self.baked_60 = baked_60
         self.between_tolerance = between_tolerance
@@ -206,7 +230,7 @@ VARIANTS = (
     # Blender keys BVH rotations as Euler angles in each bone's own axes and interpolates those
     # (with rotation mode "Quaternion" it does not keep the quaternions in one hemisphere, so
     # samples between frames can flip); a BVH defines no pose between frames: reported only.
-    Variant(".bvh", rotate_mode="NATIVE"),
+    Variant(".bvh", rotate_mode="NATIVE", skinned=False),
     # The FBX as the Autodesk FBX SDK reads it (FBX2glTF, run by run.sh when installed).
     Variant(".sdk.glb", baked_60=True, between_tolerance=sdk_between_tolerance),
 )
