@@ -34,8 +34,9 @@ constexpr std::int32_t kLinearKeyFlags = (1 << 2) | (1 << 8) | (1 << 13) | (1 <<
 // KeyAttrDataFloat's third value as the FBX SDK writes it for default tangents (packed tangent
 // weights, not a meaningful float; ASCII files print it as the integer 255790911).
 constexpr std::uint32_t kDefaultTangentBits = 255790911;
-// FileId and CreationTime of binary files: the FBX SDK checks that the two agree, and this pair
-// is the one that writers other than the SDK use.
+// FileId and CreationTime of binary files: the FBX SDK checks FileId and the footer's id
+// (fbx_binary.cpp) against CreationTime, so writers without the SDK use this fixed, consistent
+// set.
 constexpr unsigned char kFileId[16] = {0x28, 0xb3, 0x2a, 0xeb, 0xb6, 0x24, 0xcc, 0xc2,
                                        0xbf, 0xc8, 0xb0, 0x2a, 0xa9, 0x2b, 0xfc, 0xf1};
 constexpr const char* kCreationTime = "1970-01-01 10:00:00:000";

@@ -10,7 +10,8 @@ namespace wheelpose::motion::fbx {
 
 namespace {
 
-// Fixed ids of the file's end, the same in every file written by the FBX SDK's convention.
+// The footer's id goes with the document's CreationTime (export_fbx.cpp writes the matching
+// fixed time); the closing magic is the same in every file.
 constexpr unsigned char kFooterId[16] = {0xfa, 0xbc, 0xab, 0x09, 0xd0, 0xc8, 0xd4, 0x66,
                                          0xb1, 0x76, 0xfb, 0x83, 0x1c, 0xf7, 0x26, 0x7e};
 constexpr unsigned char kFooterMagic[16] = {0xf8, 0x5a, 0x8c, 0x6a, 0xde, 0xf5, 0xd9, 0x7e,
