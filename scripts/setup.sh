@@ -11,6 +11,7 @@ packages=(
   libplplot-dev plplot-driver-cairo libminizip-dev zlib1g-dev
   libtorch-dev
   chromium sweethome3d-furniture blender-data jq
+  blender python3-numpy  # tests/blender: Blender headless; numpy for its glTF importer
 )
 
 missing=()
@@ -38,6 +39,14 @@ browser_tests="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/tests/browser"
 if [ ! -d "$browser_tests/node_modules/playwright-core" ]; then
   echo "setup: npm ci in tests/browser"
   (cd "$browser_tests" && npm ci --no-audit --no-fund)
+fi
+
+# The Blender import test also reads every exported FBX with FBX2glTF (npm fbx2gltf, a prebuilt
+# converter on the Autodesk FBX SDK), pinned by tests/blender/package-lock.json.
+blender_tests="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/tests/blender"
+if [ ! -d "$blender_tests/node_modules/fbx2gltf" ]; then
+  echo "setup: npm ci in tests/blender"
+  (cd "$blender_tests" && npm ci --no-audit --no-fund)
 fi
 
 # The TF.js reference (tests/tfjs_reference: regenerates the MoveNet fixture and times TF.js

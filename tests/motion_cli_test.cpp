@@ -3,10 +3,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "cli_runner.h"
 #include "motion/clip_json.h"
@@ -63,12 +67,19 @@ TEST(MotionCli, ConvertsBvhToJsonGlbAndBvh) {
 TEST(MotionCli, ConvertsSyntheticHumanMl3dNpyAndPreviewsIt) {
   const fs::path out = fresh_temp_dir("motion_npy");
   write_smpl22_npy(out / "walk.npy", motion::testing::synthetic_clip(60, 20, 5, 0.3).frames);
-  CliResult result = run_wheelpose("motion convert " + (out / "walk.npy").string() + " --out " +
-                                   (out / "clips").string() + " --exports json,glb,bvh,fbx");
+  CliResult result =
+      run_wheelpose("motion convert " + (out / "walk.npy").string() + " --out " +
+                    (out / "clips").string() + " --exports json,glb,bvh,fbx,fbx-ascii");
   ASSERT_EQ(result.exit_code, 0) << result.output;
-  for (const char* ext : {".json", ".glb", ".bvh", ".fbx"}) {
+  for (const char* ext : {".json", ".glb", ".bvh", ".fbx", ".ascii.fbx"}) {
     EXPECT_TRUE(fs::exists(out / "clips" / (std::string("walk") + ext))) << ext;
   }
+  // fbx is binary FBX (what Blender and Unity import); fbx-ascii the same document as text.
+  char head[20] = {};
+  std::ifstream(out / "clips" / "walk.fbx", std::ios::binary).read(head, 20);
+  EXPECT_EQ(std::string(head, 20), "Kaydara FBX Binary  ");
+  std::ifstream(out / "clips" / "walk.ascii.fbx", std::ios::binary).read(head, 20);
+  EXPECT_EQ(std::string(head, 20), "; FBX 7.4.0 project ");
   result = run_wheelpose("motion preview " + (out / "clips" / "walk.json").string() + " --out " +
                          (out / "walk.gif").string());
   ASSERT_EQ(result.exit_code, 0) << result.output;
@@ -98,6 +109,34 @@ TEST(MotionCli, ABrokenClipIsRejectedAndTheOthersStillConvert) {
   for (const auto& entry : fs::directory_iterator(out / "clips")) {
     EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
   }
+  fs::remove_all(out);
+}
+
+TEST(MotionCli, AClipNamedWhatFbxCannotHoldIsOneErrorAndNoFiles) {
+  const fs::path out = fresh_temp_dir("motion_fbx_name");
+  const auto frames = motion::testing::synthetic_clip(40, 20, 5, 0.3).frames;
+  write_smpl22_npy(out / "Model::walk.npy", frames);
+  write_smpl22_npy(out / "good.npy", frames);
+  const CliResult result = run_wheelpose("motion convert " + (out / "Model::walk.npy").string() +
+                                         " " + (out / "good.npy").string() + " --out " +
+                                         (out / "clips").string() + " --exports json,glb,bvh,fbx");
+  EXPECT_EQ(result.exit_code, 2) << result.output;
+  std::size_t lines_naming_it = 0;
+  std::istringstream lines(result.output);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.find("Model::walk") != std::string::npos) {
+      ++lines_naming_it;
+      EXPECT_NE(line.find("cannot write FBX"), std::string::npos) << line;
+    }
+  }
+  EXPECT_EQ(lines_naming_it, 1u) << result.output;
+  // The clip is written in every format or in none; the good one in all four.
+  std::vector<std::string> files;
+  for (const auto& entry : fs::directory_iterator(out / "clips")) {
+    files.push_back(entry.path().filename().string());
+  }
+  std::sort(files.begin(), files.end());
+  EXPECT_EQ(files, (std::vector<std::string>{"good.bvh", "good.fbx", "good.glb", "good.json"}));
   fs::remove_all(out);
 }
 

@@ -33,7 +33,8 @@ void add_pipeline_flags(CLI::App& command, PipelineFlags& flags) {
                      "YAML file with a `motion:` section (see configs/motion.yaml)");
   command.add_option("--seed", flags.seed, "Seed for the leg noise (and library variants)");
   command.add_option("--exports", flags.exports,
-                     "Comma-separated outputs per clip: json, glb, bvh, fbx")
+                     "Comma-separated outputs per clip: json, glb, bvh, fbx (binary), "
+                     "fbx-ascii (<name>.ascii.fbx)")
       ->capture_default_str();
 }
 

@@ -45,11 +45,22 @@ BatchResult convert_batch(std::size_t count, const std::function<PositionClip(st
   }
   tbb::parallel_for(std::size_t{0}, count, [&](std::size_t i) {
     if (!clips[i]) return;
+    std::vector<std::filesystem::path> written;
     for (const ClipExporter* exporter : exporters) {
+      const auto path = out_dir / (clips[i]->motion.name + exporter->extension);
       try {
-        exporter->write(*clips[i], out_dir / (clips[i]->motion.name + exporter->extension));
+        exporter->write(*clips[i], path);
+        written.push_back(path);
       } catch (const Error& e) {
         errors[i] = e.what();
+        break;
+      }
+    }
+    // A clip is written in every format or in none (e.g. a name that FBX cannot hold).
+    if (!errors[i].empty()) {
+      for (const auto& path : written) {
+        std::error_code ignored;
+        std::filesystem::remove(path, ignored);
       }
     }
   });

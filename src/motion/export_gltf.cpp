@@ -5,13 +5,11 @@
 #include <algorithm>
 #include <assimp/Exporter.hpp>
 #include <cstdint>
-#include <cstring>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <span>
 #include <string>
 #include <string_view>
-#include <utility>
 #include <vector>
 
 #include "core/atomic_file.h"
@@ -114,19 +112,15 @@ aiMesh* make_mesh(const Pose& bind_pose) {
   return mesh;
 }
 
-// Key times are written as mTime / mTicksPerSecond seconds by both exporters we use; ticks
-// equal to frame indices and ticks per second equal to fps give exact frame times.
-// `seconds_as_ticks` is for the FBX exporter of Assimp 5.2.5, which ignores mTicksPerSecond and
-// takes mTime in seconds (see write_fbx_ascii).
-aiAnimation* make_animation(const SkeletalMotion& motion, bool seconds_as_ticks) {
+// Key times are mTime / mTicksPerSecond seconds: ticks equal to frame indices and ticks per
+// second equal to fps give exact frame times.
+aiAnimation* make_animation(const SkeletalMotion& motion) {
   auto* animation = new aiAnimation;
   animation->mName = animation_name(motion);
   const double last = static_cast<double>(motion.frame_count() - 1);
-  animation->mTicksPerSecond = seconds_as_ticks ? 1.0 : motion.fps;
-  animation->mDuration = seconds_as_ticks ? last / motion.fps : last;
-  auto key_time = [&](std::size_t frame) {
-    return seconds_as_ticks ? static_cast<double>(frame) / motion.fps : static_cast<double>(frame);
-  };
+  animation->mTicksPerSecond = motion.fps;
+  animation->mDuration = last;
+  auto key_time = [](std::size_t frame) { return static_cast<double>(frame); };
   const std::size_t frames = motion.frame_count();
   animation->mNumChannels = kJointCount;
   animation->mChannels = new aiNodeAnim*[kJointCount];
@@ -162,7 +156,7 @@ aiAnimation* make_animation(const SkeletalMotion& motion, bool seconds_as_ticks)
   return animation;
 }
 
-std::unique_ptr<aiScene> make_scene(const SkeletalMotion& motion, bool seconds_as_ticks) {
+std::unique_ptr<aiScene> make_scene(const SkeletalMotion& motion) {
   auto scene = std::make_unique<aiScene>();
   const Eigen::Vector3d bind_root = bind_root_position(motion);
   const Pose bind_pose = rest_pose(motion, bind_root);
@@ -188,7 +182,7 @@ std::unique_ptr<aiScene> make_scene(const SkeletalMotion& motion, bool seconds_a
   scene->mNumMeshes = 1;
   scene->mMeshes = new aiMesh* [1] { make_mesh(bind_pose) };
   scene->mNumAnimations = 1;
-  scene->mAnimations = new aiAnimation* [1] { make_animation(motion, seconds_as_ticks) };
+  scene->mAnimations = new aiAnimation* [1] { make_animation(motion) };
   return scene;
 }
 
@@ -226,30 +220,6 @@ void zero_unreferenced_glb_bytes(std::vector<std::uint8_t>& glb) {
   }
 }
 
-// The ASCII FBX header carries the wall-clock time of the export; a fixed date (the Unix epoch)
-// keeps the file a pure function of the motion.
-void fix_fbx_timestamp(std::vector<std::uint8_t>& fbx) {
-  std::string text(fbx.begin(), fbx.end());
-  const std::size_t begin = text.find("CreationTimeStamp:");
-  if (begin == std::string::npos) return;
-  const std::size_t end = text.find('}', begin);
-  if (end == std::string::npos) return;
-  static const std::pair<const char*, const char*> kFields[] = {
-      {"Year: ", "1970"}, {"Month: ", "1"},  {"Day: ", "1"},         {"Hour: ", "0"},
-      {"Minute: ", "0"},  {"Second: ", "0"}, {"Millisecond: ", "0"},
-  };
-  std::string block = text.substr(begin, end - begin);
-  for (const auto& [key, value] : kFields) {
-    const std::size_t at = block.find(key);
-    if (at == std::string::npos) continue;
-    const std::size_t digits = at + std::strlen(key);
-    const std::size_t stop = block.find_first_not_of("0123456789", digits);
-    block.replace(digits, stop - digits, value);
-  }
-  text.replace(begin, end - begin, block);
-  fbx.assign(text.begin(), text.end());
-}
-
 void export_scene(const aiScene& scene, const char* format_id, const char* format_name,
                   const std::filesystem::path& path) {
   Assimp::Exporter exporter;
@@ -260,11 +230,10 @@ void export_scene(const aiScene& scene, const char* format_id, const char* forma
                     " export failed: " + (reason.empty() ? "Assimp gave no reason" : reason),
                 ErrorKind::kFailure);
   }
-  // glb and ASCII FBX are single files; Assimp returns any extra files in blob->next.
+  // A glb is a single file; Assimp returns any extra files in blob->next.
   const auto* data = static_cast<const std::uint8_t*>(blob->data);
   std::vector<std::uint8_t> bytes(data, data + blob->size);
   if (std::string_view(format_id) == "glb2") zero_unreferenced_glb_bytes(bytes);
-  if (std::string_view(format_id) == "fbxa") fix_fbx_timestamp(bytes);
   write_file_atomic(path, std::span<const std::uint8_t>(bytes));
 }
 
@@ -272,22 +241,8 @@ void export_scene(const aiScene& scene, const char* format_id, const char* forma
 
 void write_glb(const SkeletalMotion& motion, const std::filesystem::path& path) {
   check_exportable(motion, "glTF");
-  const std::unique_ptr<aiScene> scene = make_scene(motion, /*seconds_as_ticks=*/false);
+  const std::unique_ptr<aiScene> scene = make_scene(motion);
   export_scene(*scene, "glb2", "glTF", path);
-}
-
-void write_fbx_ascii(const SkeletalMotion& motion, const std::filesystem::path& path) {
-  check_exportable(motion, "FBX");
-  // Assimp 5.2.5's FBX writer converts mTime to FBX time as if it were seconds, ignoring
-  // mTicksPerSecond (verified by re-importing), so keys are given in seconds. The binary FBX
-  // writer of that version is broken; the ASCII one ("fbxa") works.
-  const std::unique_ptr<aiScene> scene = make_scene(motion, /*seconds_as_ticks=*/true);
-  // FBX lengths are centimetres unless the file says otherwise: declare 1 unit = 100 cm so
-  // Blender and Unity import metres at their true size.
-  scene->mMetaData = new aiMetadata;
-  scene->mMetaData->Add("UnitScaleFactor", 100.0);
-  scene->mMetaData->Add("OriginalUnitScaleFactor", 100.0);
-  export_scene(*scene, "fbxa", "FBX", path);
 }
 
 }  // namespace wheelpose::motion

@@ -1,6 +1,6 @@
 #pragma once
-// glTF 2.0 binary (.glb) and ASCII FBX export of a SkeletalMotion, for Blender, Unity and
-// three.js. Both files hold the same scene:
+// glTF 2.0 binary (.glb) export of a SkeletalMotion, for Blender, Unity and three.js
+// (export_fbx.h writes the same scene as FBX). The file holds:
 //  * a node hierarchy of the 23 joints named as in skeleton.h ("pelvis", "left_hip", ...), each
 //    node translated by its rest offset from its parent; the pelvis sits above the origin so the
 //    T-pose stands on the floor;
@@ -18,6 +18,5 @@
 namespace wheelpose::motion {
 
 void write_glb(const SkeletalMotion& motion, const std::filesystem::path& path);
-void write_fbx_ascii(const SkeletalMotion& motion, const std::filesystem::path& path);
 
 }  // namespace wheelpose::motion

@@ -238,24 +238,6 @@ TEST(ExportGltf, GlbSkinBindsEveryJointAtTheRestPose) {
   EXPECT_LT(bind["right_wrist"].a4, -0.5);
 }
 
-TEST(ExportGltf, FbxAsciiPlaysBackAsForwardKinematics) {
-  const auto dir = temp_dir("fbx");
-  const SkeletalMotion motion = make_test_motion(9, 30.0);
-  write_fbx_ascii(motion, dir / "hand_made.fbx");
-  const std::string text = read_file(dir / "hand_made.fbx");
-  EXPECT_EQ(text.rfind("; FBX", 0), 0u) << text.substr(0, 40);
-  EXPECT_NE(text.find("\"UnitScaleFactor\", \"double\", \"Number\", \"\", 100"), std::string::npos);
-  // No wall-clock time in the file: the same motion gives the same bytes.
-  EXPECT_NE(text.find("\t\tYear: 1970\n"), std::string::npos);
-  write_fbx_ascii(motion, dir / "again.fbx");
-  EXPECT_TRUE(read_file(dir / "again.fbx") == text);
-  Assimp::Importer importer;
-  const aiScene* scene = import(importer, dir / "hand_made.fbx");
-  ASSERT_NE(scene, nullptr);
-  expect_animation_timing(*scene, motion);
-  expect_plays_like(*scene, motion, 1e-4);
-}
-
 TEST(ExportGltf, MotionNamedLikeAJointStillExports) {
   // Assimp's glTF writer fails when the animation and a node share a name.
   const auto dir = temp_dir("names");
@@ -272,19 +254,16 @@ TEST(ExportGltf, MotionNamedLikeAJointStillExports) {
 TEST(ExportGltf, RejectsBadMotionsAndPaths) {
   const SkeletalMotion motion = make_test_motion(3, 30.0);
   EXPECT_THROW(write_glb(motion, "/nonexistent_dir/x.glb"), Error);
-  EXPECT_THROW(write_fbx_ascii(motion, "/nonexistent_dir/x.fbx"), Error);
   SkeletalMotion empty = motion;
   empty.local_rotations.clear();
   empty.root_positions.clear();
   const auto dir = temp_dir("bad");
-  for (auto write : {&write_glb, &write_fbx_ascii}) {
-    try {
-      write(empty, dir / "empty.out");
-      FAIL() << "a motion without frames was written";
-    } catch (const Error& e) {
-      EXPECT_EQ(e.kind(), ErrorKind::kBadInput);
-      EXPECT_NE(std::string(e.what()).find("no frames"), std::string::npos) << e.what();
-    }
+  try {
+    write_glb(empty, dir / "empty.out");
+    FAIL() << "a motion without frames was written";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::kBadInput);
+    EXPECT_NE(std::string(e.what()).find("no frames"), std::string::npos) << e.what();
   }
   EXPECT_FALSE(std::filesystem::exists(dir / "empty.out"));
 }

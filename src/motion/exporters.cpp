@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "motion/clip_json.h"
 #include "motion/export_bvh.h"
+#include "motion/export_fbx.h"
 #include "motion/export_gltf.h"
 
 namespace wheelpose::motion {
@@ -13,9 +14,15 @@ const std::vector<ClipExporter>& clip_exporters() {
   static const std::vector<ClipExporter> table = {
       {"json", ".json",
        [](const SeatedClip& c, const std::filesystem::path& p) { write_seated_clip_json(c, p); }},
-      {"glb", ".glb", [](const SeatedClip& c, const std::filesystem::path& p) { write_glb(c.motion, p); }},
-      {"bvh", ".bvh", [](const SeatedClip& c, const std::filesystem::path& p) { write_bvh(c.motion, p); }},
+      {"glb", ".glb",
+       [](const SeatedClip& c, const std::filesystem::path& p) { write_glb(c.motion, p); }},
+      {"bvh", ".bvh",
+       [](const SeatedClip& c, const std::filesystem::path& p) { write_bvh(c.motion, p); }},
       {"fbx", ".fbx",
+       [](const SeatedClip& c, const std::filesystem::path& p) { write_fbx(c.motion, p); }},
+      // The same document as ASCII, for reading by eye and for tools that want text; Blender
+      // reads only binary FBX.
+      {"fbx-ascii", ".ascii.fbx",
        [](const SeatedClip& c, const std::filesystem::path& p) { write_fbx_ascii(c.motion, p); }},
   };
   return table;

@@ -391,6 +391,14 @@ const std::vector<ImportMapping>& bvh_rigs() {
   return rigs;
 }
 
+double bvh_frame_rate(double frame_time) {
+  const double fps = 1.0 / frame_time;
+  for (double rate : {std::round(fps), std::round(fps * 1.001) * 1000.0 / 1001.0}) {
+    if (rate > 0 && std::abs(fps - rate) <= 1e-4 * fps) return rate;
+  }
+  return fps;
+}
+
 PositionClip import_bvh(const std::filesystem::path& path, const ImportOptions& options) {
   const std::string where = path.string();
   BvhMotion motion = parse_bvh(read_file(path), where);
@@ -430,7 +438,7 @@ PositionClip import_bvh(const std::filesystem::path& path, const ImportOptions& 
   PositionClip clip;
   clip.name = path.stem().string();
   clip.source = where;
-  clip.fps = options.fps > 0 ? options.fps : 1.0 / motion.frame_time;
+  clip.fps = options.fps > 0 ? options.fps : bvh_frame_rate(motion.frame_time);
   clip.frames.reserve(motion.frames.size());
   for (std::size_t f = 0; f < motion.frames.size(); ++f) {
     clip.frames.push_back(apply_mapping(mapping, bvh_global_positions(motion, f)));

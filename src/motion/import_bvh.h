@@ -45,4 +45,8 @@ const std::vector<ImportMapping>& bvh_rigs();
 
 PositionClip import_bvh(const std::filesystem::path& path, const ImportOptions& options);
 
+// The clip rate of a Frame Time. Files print it rounded (CMU: .0083333 for 1/120 s), so a rate
+// within 0.01 % of a whole number, or of an NTSC n·1000/1001, is taken as exactly that.
+double bvh_frame_rate(double frame_time);
+
 }  // namespace wheelpose::motion

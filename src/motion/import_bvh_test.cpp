@@ -62,6 +62,17 @@ TEST(ParseBvh, ReadsHierarchyChannelsAndFrames) {
   EXPECT_EQ(m.frames[1][7], 90.0);
 }
 
+TEST(ImportBvh, RoundedFrameTimesMeanTheNearbyStandardRate) {
+  EXPECT_EQ(bvh_frame_rate(.0083333), 120.0);
+  EXPECT_EQ(bvh_frame_rate(0.033333), 30.0);
+  EXPECT_EQ(bvh_frame_rate(.04), 25.0);
+  EXPECT_EQ(bvh_frame_rate(0.0333667), 30000.0 / 1001.0);
+  EXPECT_EQ(bvh_frame_rate(0.5), 2.0);
+  // Not near a standard rate: kept as given.
+  EXPECT_DOUBLE_EQ(bvh_frame_rate(0.0123), 1 / 0.0123);
+  EXPECT_DOUBLE_EQ(bvh_frame_rate(0.0334), 1 / 0.0334);
+}
+
 TEST(ParseBvh, ForwardKinematicsComposesChannelsInListedOrder) {
   BvhMotion m = parse_bvh(std::string(kTinyHierarchy) +
                               "MOTION\nFrames: 2\nFrame Time: .04\n"
@@ -121,7 +132,7 @@ TEST(ImportBvh, CmuFilesGivePlausibleBodiesInMetres) {
     EXPECT_EQ(clip.name, stem);
     EXPECT_EQ(clip.source, path);
     ASSERT_EQ(clip.frames.size(), frames);
-    EXPECT_NEAR(clip.fps, 120.0, 0.01);  // Frame Time .0083333
+    EXPECT_EQ(clip.fps, 120.0);  // Frame Time .0083333
     for (std::size_t f = 0; f < clip.frames.size(); ++f) {
       const Pose& p = clip.frames[f];
       ASSERT_GT(p[kHeadTop].y(), p[kPelvis].y()) << "frame " << f;
