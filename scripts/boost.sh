@@ -30,7 +30,7 @@ else
   train_frames=${TRAIN_FRAMES:-5000} test_frames=${TEST_FRAMES:-500} steps=${STEPS:-3000}
   batch=${BATCH:-16} size_args=""
 fi
-lr=${LR:-1e-5}
+lr=${LR:-1e-4}
 freeze=${FREEZE:-0}
 mkdir -p "$out"
 log() { echo "boost: $*" >&2; }
