@@ -13,17 +13,9 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/random.h"
+#include "motion/export_test_support.h"
 
 namespace wheelpose::motion {
-
-// Defined in export_gltf_test.cpp (same test executable).
-namespace export_test {
-SkeletalMotion make_test_motion(int frames, double fps);
-Pose scene_joint_positions(const aiScene& scene, double seconds);
-void expect_plays_like(const aiScene& scene, const SkeletalMotion& motion, double tolerance);
-double ticks_per_second(const aiAnimation& animation);
-std::filesystem::path temp_dir(const std::string& name);
-}  // namespace export_test
 
 namespace {
 

@@ -15,6 +15,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "motion/euler_curves.h"
+#include "motion/export_test_support.h"
 #include "motion/fbx_test_reader.h"
 #include "motion/fbx_time.h"
 #include "motion/library.h"
@@ -22,15 +23,6 @@
 #include "motion/test_support.h"
 
 namespace wheelpose::motion {
-
-// Defined in export_gltf_test.cpp (same test executable).
-namespace export_test {
-SkeletalMotion make_test_motion(int frames, double fps);
-Pose scene_joint_positions(const aiScene& scene, double seconds);
-void expect_plays_like(const aiScene& scene, const SkeletalMotion& motion, double tolerance);
-double ticks_per_second(const aiAnimation& animation);
-std::filesystem::path temp_dir(const std::string& name);
-}  // namespace export_test
 
 namespace {
 

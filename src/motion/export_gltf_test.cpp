@@ -16,10 +16,11 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "motion/export_bvh.h"
+#include "motion/export_test_support.h"
 
 namespace wheelpose::motion {
 
-// Shared with export_bvh_test.cpp (same test executable).
+// Shared with the other export tests (export_test_support.h).
 namespace export_test {
 
 // A motion built by hand: the T-pose skeleton with default bone lengths, the root moving along

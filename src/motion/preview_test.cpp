@@ -10,14 +10,9 @@
 #include <string>
 
 #include "core/error.h"
+#include "motion/export_test_support.h"
 
 namespace wheelpose::motion {
-
-// Defined in export_gltf_test.cpp (same test executable).
-namespace export_test {
-SkeletalMotion make_test_motion(int frames, double fps);
-std::filesystem::path temp_dir(const std::string& name);
-}  // namespace export_test
 
 namespace {
 
