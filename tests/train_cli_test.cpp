@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "cli_runner.h"
 
@@ -64,6 +66,58 @@ TEST(TrainCli, StoppedRunResumesExactlyAndItsWeightsPredict) {
   EXPECT_TRUE(json::parse(read_text(dir / "results.json")).is_array());
 }
 
+// keypoint AP from `wheelpose eval`'s metrics.json.
+double keypoint_ap(const fs::path& metrics) {
+  return json::parse(read_text(metrics))["results"]["keypoints"]["stats"]["AP"].get<double>();
+}
+
+// Validation scores the starting weights and every --val-every steps; best.pt holds the best
+// row's weights, and `predict` + `eval` on them give the very number val_log.csv recorded. A run
+// stopped and resumed logs the same validations.
+TEST(TrainCli, ValidationKeepsTheBestWeightsAndMatchesPredictPlusEval) {
+  if (!have_models()) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
+  const auto dir = fresh_temp_dir("train_val");
+  const fs::path gt = wheelpose::testing::write_coco_sample_gt(dir, true);
+  const std::string val = " --val " + gt.string() + " --val-every 2 --val-size 320";
+  auto r = run_wheelpose(small_run(gt, dir / "whole") + val);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_wheelpose(small_run(gt, dir / "parts") + val + " --stop-after 3");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_wheelpose(small_run(gt, dir / "parts") + val + " --resume");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string val_log = read_text(dir / "whole" / "val_log.csv");
+  EXPECT_EQ(val_log, read_text(dir / "parts" / "val_log.csv"));
+
+  std::istringstream rows(val_log);
+  std::string line;
+  std::getline(rows, line);
+  std::vector<std::pair<int, double>> scored;  // step, keypoint AP
+  while (std::getline(rows, line)) {
+    scored.emplace_back(std::stoi(line), std::stod(line.substr(line.find(',') + 1)));
+  }
+  ASSERT_EQ(scored.size(), 3u) << val_log;
+  EXPECT_EQ(scored[0].first, 0);
+  EXPECT_EQ(scored[1].first, 2);
+  EXPECT_EQ(scored[2].first, 4);
+  auto best = scored.begin();
+  for (auto it = scored.begin(); it != scored.end(); ++it) {
+    if (it->second > best->second) best = it;
+  }
+  const json best_json = json::parse(read_text(dir / "whole" / "best.json"));
+  EXPECT_EQ(best_json["step"].get<int>(), best->first);
+
+  r = run_wheelpose("predict --model " + (dir / "whole" / "best.pt").string() + " --size 320 --coco " +
+                    gt.string() + " --images " + dir.string() + " --out " +
+                    (dir / "best.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_wheelpose("eval --gt " + gt.string() + " --dt " + (dir / "best.json").string() +
+                    " --out " + (dir / "eval").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NEAR(keypoint_ap(dir / "eval" / "metrics.json"), best->second, 1e-6);
+  EXPECT_NEAR(best_json["keypoint_ap"].get<double>(), best->second, 1e-6);
+  EXPECT_EQ(read_text(dir / "whole" / "curves.png").substr(1, 3), "PNG");
+}
+
 TEST(TrainCli, BadInputIsOneLineAndLeavesTheCheckpoint) {
   if (!have_models()) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
   const auto dir = fresh_temp_dir("train_bad");
@@ -93,6 +147,14 @@ TEST(TrainCli, BadInputIsOneLineAndLeavesTheCheckpoint) {
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("--resume"), std::string::npos) << r.output;
   EXPECT_EQ(read_text(dir / "run" / "checkpoint.pt"), checkpoint);
+
+  json no_val_image = json::parse(read_text(gt));
+  no_val_image["images"][0]["file_name"] = "gone.jpg";
+  std::ofstream(dir / "no_val_image.json") << no_val_image.dump();
+  r = run_wheelpose(small_run(gt, dir / "z") + " --val " + (dir / "no_val_image.json").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("gone.jpg"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "z" / "checkpoint.pt"));
 }
 
 }  // namespace

@@ -121,26 +121,6 @@ cv::Mat read_rgb(const fs::path& path) {
   return rgb;
 }
 
-// Rounded to `per_unit`ths; dividing (not multiplying by 1 / per_unit) gives the double nearest
-// the decimal, so the JSON holds 0.5901, not 0.5901000000000001.
-double round_to(double v, double per_unit) { return std::round(v * per_unit) / per_unit; }
-
-json result_json(std::int64_t image_id, const learn::PosePrediction& p) {
-  json keypoints = json::array();
-  for (int k = 0; k < 17; ++k) {
-    keypoints.push_back(round_to(p.keypoints[3 * k], 100));
-    keypoints.push_back(round_to(p.keypoints[3 * k + 1], 100));
-    keypoints.push_back(round_to(p.keypoints[3 * k + 2], 10000));
-  }
-  return {{"image_id", image_id},
-          {"category_id", 1},
-          {"keypoints", keypoints},
-          {"score", round_to(p.score, 10000)},
-          {"bbox",
-           {round_to(p.bbox.x, 100), round_to(p.bbox.y, 100), round_to(p.bbox.w, 100),
-            round_to(p.bbox.h, 100)}}};
-}
-
 void run_predict(const PredictCommandOptions& o) {
   if (o.size < 32 || o.size % 32 != 0) {
     throw Error("--size " + std::to_string(o.size) + ": must be a positive multiple of 32");
@@ -173,7 +153,7 @@ void run_predict(const PredictCommandOptions& o) {
     const std::vector<learn::PosePrediction> people =
         predictor.multi_person() ? predictor.predict_image(rgb)
                                  : predictor.predict_boxes(rgb, jobs[i].boxes);
-    for (const learn::PosePrediction& p : people) results.push_back(result_json(jobs[i].id, p));
+    for (const learn::PosePrediction& p : people) results.push_back(learn::coco_result_json(jobs[i].id, p));
     progress(static_cast<std::int64_t>(i + 1), static_cast<std::int64_t>(jobs.size()));
   }
   write_file_atomic(o.out, results.dump() + "\n");

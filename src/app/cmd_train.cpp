@@ -26,6 +26,7 @@ struct TrainCommandOptions {
   std::string models;
   learn::TrainOptions run;
   std::string out;
+  std::string val;
 };
 
 void run_train(TrainCommandOptions& c) {
@@ -37,6 +38,7 @@ void run_train(TrainCommandOptions& c) {
   o.model_json = choice.topology;
   o.init_weights = choice.weights;
   o.out_dir = c.out;
+  if (!c.val.empty()) o.val_coco = fs::path(c.val);
   retain_large_blocks();
   Progress progress("train", "steps");
   const learn::TrainResult result = learn::train(o, [&](const learn::StepReport& r) {
@@ -48,10 +50,18 @@ void run_train(TrainCommandOptions& c) {
           r.box_scale, r.box_offset, r.images_per_second);
     }
     progress(r.step, o.steps);
+  }, [&](const learn::ValidationRow& v) {
+    spdlog::info("train: validation at step {}: keypoint AP {:.3f} (AP50 {:.3f}, AR {:.3f}), box AP "
+                 "{:.3f} (AP50 {:.3f})",
+                 v.step, v.keypoint_ap, v.keypoint_ap50, v.keypoint_ar, v.box_ap, v.box_ap50);
   });
   const int done = result.start_step + static_cast<int>(result.steps.size());
   spdlog::info("train: {} of {} steps done; weights in {}", done, o.steps,
                (fs::path(c.out) / "last.pt").string());
+  if (result.best) {
+    spdlog::info("train: best validation keypoint AP {:.3f} at step {}: {}", result.best->keypoint_ap,
+                 result.best->step, (fs::path(c.out) / "best.pt").string());
+  }
 }
 
 }  // namespace
@@ -94,6 +104,12 @@ void attach_train(CLI::App& parent) {
   cmd->add_option("--threads", o.threads, "Torch threads (0 = every core)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--seed", o.seed, "Seed of the image draws and augmentations")
+      ->capture_default_str();
+  cmd->add_option("--val", c->val,
+                  "COCO keypoints JSON scored during training (keypoint and box AP); the best "
+                  "weights are kept as best.pt");
+  cmd->add_option("--val-every", o.val_every, "Steps between validations")->capture_default_str();
+  cmd->add_option("--val-size", o.val_size, "Validation input size (as predict --size)")
       ->capture_default_str();
   cmd->add_flag("--resume", o.resume, "Continue the run in --out from its checkpoint");
   cmd->add_option("--stop-after", o.stop_after,

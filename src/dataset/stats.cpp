@@ -1,9 +1,6 @@
 #include "dataset/stats.h"
 
-// Figures are drawn with PLplot (Debian libplplot-dev + plplot-driver-cairo): a packaged C
-// plotting library with real axes, labels, histograms, image maps and 3D points, whose cairo
-// drivers write both PNG (pngcairo) and SVG (svgcairo) from the same drawing code, with no
-// display or Python needed. It keeps global state, so figures are drawn one at a time.
+// Figures: dataset/plot.h (PLplot).
 #include <plplot/plplot.h>
 
 #include <algorithm>
@@ -14,81 +11,20 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "dataset/plot.h"
 
 namespace wheelpose::dataset {
 namespace {
 
 namespace fs = std::filesystem;
+using plot::bar;
+using plot::panel;
+using plot::render;
 constexpr double kPi = std::numbers::pi;
 const char* const kMapKeypoints[] = {"nose",       "left_wrist", "right_wrist", "left_knee",
                                      "right_knee", "left_ankle", "right_ankle"};
 
 std::int64_t int_of(const json& v) { return *as_integer(v); }
-
-// ---- drawing helpers --------------------------------------------------------------------
-
-// Colour map 0: 0 white background, 1 black ink, 2 dataset blue, 3 reference orange, 4 red.
-void set_palette() {
-  plscmap0n(8);
-  plscol0(0, 255, 255, 255);
-  plscol0(1, 0, 0, 0);
-  plscol0(2, 0, 114, 178);
-  plscol0(3, 230, 159, 0);
-  plscol0(4, 213, 0, 0);
-  plscol0(5, 128, 128, 128);
-  // Colour map 1 (heatmaps): white -> blue -> dark red, in RGB.
-  PLFLT pos[] = {0.0, 0.35, 0.7, 1.0};
-  PLFLT r[] = {1.0, 0.35, 0.9, 0.5}, g[] = {1.0, 0.55, 0.3, 0.0}, b[] = {1.0, 0.9, 0.1, 0.0};
-  plscmap1l(1, 4, pos, r, g, b, nullptr);
-}
-
-// Renders `draw` to base.png and base.svg; each appears atomically.
-void render(const fs::path& base, int width, int height, int nx, int ny,
-            const std::function<void()>& draw) {
-  const std::pair<const char*, const char*> devices[] = {{"pngcairo", ".png"},
-                                                         {"svgcairo", ".svg"}};
-  for (const auto& [device, ext] : devices) {
-    fs::path tmp = base;
-    tmp += std::string(ext) + ".tmp";
-    fs::path final_path = base;
-    final_path += ext;
-    plsdev(device);
-    plsfnam(tmp.c_str());
-    plspage(0, 0, width, height, 0, 0);
-    set_palette();
-    plssub(nx, ny);
-    plinit();
-    plschr(0, 0.8);
-    draw();
-    plend();
-    std::error_code ec;
-    if (!fs::exists(tmp, ec)) {
-      throw Error(final_path.string() + ": PLplot did not write the figure", ErrorKind::kFailure);
-    }
-    const std::string bytes = read_file(tmp);
-    fs::remove(tmp, ec);
-    write_file_atomic(final_path, bytes);
-  }
-}
-
-void panel(double xmin, double xmax, double ymin, double ymax, const std::string& x_label,
-           const std::string& y_label, const std::string& title) {
-  pladv(0);
-  plvsta();
-  plwind(xmin, xmax, ymin, ymax);
-  plcol0(1);
-  plbox("bcnst", 0, 0, "bcnstv", 0, 0);
-  pllab(x_label.c_str(), y_label.c_str(), title.c_str());
-}
-
-void bar(double x0, double x1, double y, int colour) {
-  PLFLT xs[] = {x0, x1, x1, x0}, ys[] = {0, 0, y, y};
-  plcol0(colour);
-  plfill(4, xs, ys);
-  plcol0(1);
-  PLFLT lx[] = {x0, x0, x1, x1}, ly[] = {0, y, y, 0};
-  plline(4, lx, ly);
-}
 
 // Histogram as a probability density (so datasets of different sizes compare).
 void density_panel(const Histogram& h, int colour, const std::string& x_label,

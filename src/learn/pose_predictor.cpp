@@ -3,6 +3,7 @@
 #include <torch/torch.h>
 
 #include <algorithm>
+#include <cmath>
 #include <thread>
 
 #include "core/error.h"
@@ -23,7 +24,27 @@ torch::Tensor to_input(const cv::Mat& rgb) {
       .to(torch::kInt32);
 }
 
+// Rounded to `per_unit`ths; dividing (not multiplying by 1 / per_unit) gives the double nearest
+// the decimal, so the JSON holds 0.5901, not 0.5901000000000001.
+double round_to(double v, double per_unit) { return std::round(v * per_unit) / per_unit; }
+
 }  // namespace
+
+nlohmann::json coco_result_json(std::int64_t image_id, const PosePrediction& p) {
+  nlohmann::json keypoints = nlohmann::json::array();
+  for (int k = 0; k < kKeypoints; ++k) {
+    keypoints.push_back(round_to(p.keypoints[3 * k], 100));
+    keypoints.push_back(round_to(p.keypoints[3 * k + 1], 100));
+    keypoints.push_back(round_to(p.keypoints[3 * k + 2], 10000));
+  }
+  return {{"image_id", image_id},
+          {"category_id", 1},
+          {"keypoints", keypoints},
+          {"score", round_to(p.score, 10000)},
+          {"bbox",
+           {round_to(p.bbox.x, 100), round_to(p.bbox.y, 100), round_to(p.bbox.w, 100),
+            round_to(p.bbox.h, 100)}}};
+}
 
 struct PosePredictor::Impl {
   GraphModule graph;

@@ -10,6 +10,7 @@
 #include <array>
 #include <filesystem>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <optional>
 #include <vector>
@@ -29,6 +30,11 @@ struct PredictOptions {
   double min_score = 0.05;  // multipose: people scoring less are dropped
   int threads = 0;          // intra-op threads; 0 = every core
 };
+
+// One COCO result entry (image_id, category 1, keypoints, score, bbox), rounded to 0.01 px and
+// 1e-4 in score: what `predict` writes and the evaluator reads, so in-memory scoring during
+// training sees exactly the numbers a written file would hold.
+nlohmann::json coco_result_json(std::int64_t image_id, const PosePrediction& prediction);
 
 class PosePredictor {
  public:

@@ -32,13 +32,17 @@ TrainSource parse_train_source(const std::string& text) {
   return source;
 }
 
+fs::path image_root(const fs::path& coco) {
+  const fs::path dir = coco.parent_path();
+  return fs::is_directory(dir / "images") ? dir / "images" : dir;
+}
+
 TrainSet load_train_set(const std::vector<TrainSource>& sources) {
   if (sources.empty()) throw Error("no training data: give --train COCO.json");
   TrainSet set;
   for (const TrainSource& source : sources) {
     const eval::CocoGroundTruth gt = eval::load_coco_gt(source.coco, 17, false);
-    const fs::path dir = source.coco.parent_path();
-    const fs::path root = fs::is_directory(dir / "images") ? dir / "images" : dir;
+    const fs::path root = image_root(source.coco);
     std::vector<TrainImage> images(gt.images.size());
     for (std::size_t i = 0; i < gt.images.size(); ++i) {
       if (gt.images[i].file_name.empty()) {

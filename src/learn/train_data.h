@@ -38,6 +38,10 @@ struct TrainSet {
   int labelled_people = 0;  // people with at least one labelled keypoint
 };
 
+// Where a COCO file's images are: `<dir of the json>/images/` when that folder exists (a
+// generated dataset), else the json's own folder.
+std::filesystem::path image_root(const std::filesystem::path& coco);
+
 // Reads every source. Images are looked up in `<dir of the json>/images/` when that folder
 // exists (a generated dataset), else beside the json. Throws Error naming the file for an
 // unreadable or invalid COCO file, a missing image, or a set with no labelled keypoint.

@@ -19,6 +19,8 @@
 #include "eval/keypoint_template.h"
 #include "learn/graph_module.h"
 #include "learn/movenet_targets.h"
+#include "learn/training_curves.h"
+#include "learn/validation.h"
 
 namespace wheelpose::learn {
 namespace {
@@ -185,6 +187,7 @@ void check(const TrainOptions& o) {
     bad("--input-size must be a multiple of 32, at least 64");
   }
   if (o.loader_threads < 1) bad("--loader-threads must be at least 1");
+  if (o.val_every < 1) bad("--val-every must be at least 1");
 }
 
 const char* const kLogHeader =
@@ -200,11 +203,21 @@ std::string log_row(const StepReport& r) {
   return row.str();
 }
 
-// The log's header and its rows up to `step` (a killed run may have logged past its last
+const char* const kValHeader = "step,keypoint_ap,keypoint_ap50,keypoint_ar,box_ap,box_ap50\n";
+
+std::string val_row(const ValidationRow& r) {
+  std::ostringstream row;
+  row.precision(6);
+  row << r.step << ',' << r.keypoint_ap << ',' << r.keypoint_ap50 << ',' << r.keypoint_ar << ','
+      << r.box_ap << ',' << r.box_ap50 << '\n';
+  return row.str();
+}
+
+// A CSV log's header and its rows up to `step` (a killed run may have logged past its last
 // checkpoint; those steps run again).
-std::string log_prefix(const fs::path& path, int step) {
-  std::string kept = kLogHeader;
-  if (step == 0 || !fs::exists(path)) return kept;
+std::string log_prefix(const fs::path& path, int step, const std::string& header) {
+  std::string kept = header;
+  if (!fs::exists(path)) return kept;
   std::istringstream in(read_file(path));
   std::string line;
   std::getline(in, line);  // header
@@ -214,6 +227,30 @@ std::string log_prefix(const fs::path& path, int step) {
     kept += line + '\n';
   }
   return kept;
+}
+
+// The validation rows of a val_log.csv text.
+std::vector<ValidationRow> parse_val_log(const std::string& text) {
+  std::vector<ValidationRow> rows;
+  std::istringstream in(text);
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    std::istringstream fields(line);
+    ValidationRow r;
+    char comma = 0;
+    fields >> r.step >> comma >> r.keypoint_ap >> comma >> r.keypoint_ap50 >> comma >>
+        r.keypoint_ar >> comma >> r.box_ap >> comma >> r.box_ap50;
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+nlohmann::json val_json(const ValidationRow& r) {
+  return {{"step", r.step},          {"keypoint_ap", r.keypoint_ap},
+          {"keypoint_ap50", r.keypoint_ap50}, {"keypoint_ar", r.keypoint_ar},
+          {"box_ap", r.box_ap},      {"box_ap50", r.box_ap50}};
 }
 
 void save_checkpoint(GraphModule& model, torch::optim::AdamW& optimizer, int step,
@@ -281,6 +318,9 @@ std::string resume_key(const TrainOptions& o) {
                               {"backbone_lr_scale", o.backbone_lr_scale},
                               {"clip_norm", o.clip_norm},
                               {"seed", o.seed},
+                              {"val", o.val_coco ? o.val_coco->string() : ""},
+                              {"val_every", o.val_every},
+                              {"val_size", o.val_size},
                               {"augment",
                                {a.input_size, a.target_longer_side, a.scale_min, a.scale_max,
                                 a.shift_fraction, a.rotate_degrees, a.flip_probability,
@@ -288,8 +328,11 @@ std::string resume_key(const TrainOptions& o) {
   return key.dump();
 }
 
-TrainResult train(const TrainOptions& o, const std::function<void(const StepReport&)>& on_step) {
+TrainResult train(const TrainOptions& o, const std::function<void(const StepReport&)>& on_step,
+                  const std::function<void(const ValidationRow&)>& on_validation) {
   check(o);
+  std::optional<Validator> validator;
+  if (o.val_coco) validator.emplace(*o.val_coco, o.val_size, o.threads);
   Data data;
   data.set = load_train_set(o.train);
   for (const TrainImage& image : data.set.images) {
@@ -342,7 +385,37 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
     write_file_atomic(o.out_dir / "options.json", nlohmann::json::parse(key).dump(2) + "\n");
   }
   const fs::path log_path = o.out_dir / "train_log.csv";
-  std::string log = log_prefix(log_path, result.start_step);
+  std::string log = log_prefix(log_path, result.start_step, kLogHeader);
+  const fs::path val_log_path = o.out_dir / "val_log.csv";
+  std::string val_log = log_prefix(val_log_path, result.start_step, kValHeader);
+  for (const ValidationRow& r : parse_val_log(val_log)) {
+    if (!result.best || r.keypoint_ap > result.best->keypoint_ap) result.best = r;
+  }
+  auto validation_due = [&](int done) {
+    return validator && (done == 0 || done % o.val_every == 0 || done == o.steps);
+  };
+  // Scores the current weights (saved as last.pt); the best so far becomes best.pt.
+  auto validate = [&](int done) {
+    model.save(o.out_dir / "last.pt");
+    const ValidationScores v = validator->score(o.model_json, o.out_dir / "last.pt");
+    const ValidationRow row{done, v.keypoint_ap, v.keypoint_ap50, v.keypoint_ar, v.box_ap,
+                            v.box_ap50};
+    if (!result.best || row.keypoint_ap > result.best->keypoint_ap) {
+      write_file_atomic(o.out_dir / "best.pt", read_file(o.out_dir / "last.pt"));
+      write_file_atomic(o.out_dir / "best.json", val_json(row).dump(2) + "\n");
+      result.best = row;
+    }
+    val_log += val_row(row);
+    write_file_atomic(val_log_path, val_log);
+    result.validation.push_back(row);
+    if (on_validation) on_validation(row);
+  };
+  // The starting weights (or, after a kill during a validation, the checkpoint's) are scored
+  // first when their row is missing.
+  if (validation_due(result.start_step)) {
+    const std::vector<ValidationRow> done = parse_val_log(val_log);
+    if (done.empty() || done.back().step != result.start_step) validate(result.start_step);
+  }
 
   std::deque<std::future<Batch>> ahead;
   int next_to_load = result.start_step;
@@ -386,9 +459,12 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
     result.steps.push_back(report);
     if (on_step) on_step(report);
     const bool stop = o.stop_after > 0 && report.step >= o.stop_after;
-    if (report.step % o.checkpoint_every == 0 || report.step == o.steps || stop) {
+    const bool validating = validation_due(report.step);
+    if (report.step % o.checkpoint_every == 0 || report.step == o.steps || stop || validating) {
       save_checkpoint(model, optimizer, report.step, key, o.out_dir);
       write_file_atomic(log_path, log);
+      if (validating) validate(report.step);
+      draw_training_curves(o.out_dir);
     }
     if (stop) break;
   }

@@ -37,6 +37,12 @@ struct TrainOptions {
   std::uint64_t seed = 1;
   bool resume = false;
   int stop_after = 0;  // > 0: stop (with a checkpoint) once this many steps are done in total
+  // Validation: keypoint and box AP on this COCO file (scored as `predict --size val_size` +
+  // `eval` would) before the first step, every val_every steps and at the end; the weights
+  // with the best keypoint AP are kept as best.pt.
+  std::optional<std::filesystem::path> val_coco;
+  int val_every = 250;
+  int val_size = 640;
   AugmentOptions augment;
 };
 
@@ -49,18 +55,28 @@ struct StepReport {
   double images_per_second = 0;
 };
 
+struct ValidationRow {
+  int step = 0;  // steps done when scored (0: the starting weights)
+  double keypoint_ap = 0, keypoint_ap50 = 0, keypoint_ar = 0, box_ap = 0, box_ap50 = 0;
+};
+
 struct TrainResult {
-  int start_step = 0;             // > 0 after --resume
-  std::vector<StepReport> steps;  // the steps this call ran
+  int start_step = 0;                    // > 0 after --resume
+  std::vector<StepReport> steps;         // the steps this call ran
+  std::vector<ValidationRow> validation;  // the validations this call ran
+  std::optional<ValidationRow> best;      // with --val: the best so far (best.pt holds it)
 };
 
 // Writes into out_dir: checkpoint.pt (model, optimizer, step; replaced atomically every
-// checkpoint_every steps and at the end), last.pt (weights, loadable by `predict --model`),
-// train_log.csv (one row per step, appended on resume) and options.json. With `resume`, the
+// checkpoint_every steps, at each validation and at the end), last.pt (weights, loadable by
+// `predict --model`), train_log.csv (one row per step, appended on resume), options.json and
+// curves.png/.svg (learn/training_curves.h); with val_coco also val_log.csv, best.pt and
+// best.json. With `resume`, the
 // options must equal the checkpoint's (else Error, checkpoint untouched). Throws Error for bad
 // data or options.
 TrainResult train(const TrainOptions& options,
-                  const std::function<void(const StepReport&)>& on_step = {});
+                  const std::function<void(const StepReport&)>& on_step = {},
+                  const std::function<void(const ValidationRow&)>& on_validation = {});
 
 // The options that must not change between a run and its resume, as canonical JSON text.
 std::string resume_key(const TrainOptions& options);
