@@ -1,13 +1,17 @@
 #!/usr/bin/env bash
 # The model-boosting experiment in one command (the paper's Table 4, on synthetic data):
-# generate a training set and a held-out test set (other seed, other motion clips, and a
-# wheelchair type and a mobility aid never drawn in training: configs/boost-*), score the
-# pretrained MoveNet MultiPose on the test set, fine-tune it on the training set, score it
-# again, and write OUT/report.md. Every step resumes: re-running after an interruption redoes only what is missing.
+# generate a training set, a validation set (training's distribution, another seed) and a
+# held-out test set (other seed, other motion clips, and a wheelchair type and a mobility aid
+# never drawn in training: configs/boost-*), score the pretrained MoveNet MultiPose on the test
+# set, fine-tune it on the training set (validating every VAL_EVERY steps, keeping the best
+# weights by validation keypoint AP), score the best weights on the test set, and write
+# OUT/report.md and OUT/report.html. Every step resumes: re-running after an interruption redoes
+# only what is missing.
 #
 # usage: scripts/boost.sh [--quick] [OUT (default out/boost)]
 #   --quick: a few frames and steps (a smoke test of the whole chain, minutes on 2 cores)
-# Environment overrides: TRAIN_FRAMES, TEST_FRAMES, STEPS, BATCH, LR, FREEZE, EXTRA_TRAIN_ARGS.
+# Environment overrides: TRAIN_FRAMES, VAL_FRAMES, TEST_FRAMES, STEPS, BATCH, LR, FREEZE,
+# VAL_EVERY, EXTRA_TRAIN_ARGS.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 wp="$root/build/release/wheelpose"
@@ -24,11 +28,11 @@ done
 [[ -x "$wp" ]] || { echo "boost: $wp is missing: cmake --build --preset release" >&2; exit 1; }
 
 if ((quick)); then
-  train_frames=${TRAIN_FRAMES:-24} test_frames=${TEST_FRAMES:-8} steps=${STEPS:-16}
-  batch=${BATCH:-4} size_args="--input-size 128"
+  train_frames=${TRAIN_FRAMES:-24} val_frames=${VAL_FRAMES:-4} test_frames=${TEST_FRAMES:-8}
+  steps=${STEPS:-16} batch=${BATCH:-4} val_every=${VAL_EVERY:-8} size_args="--input-size 128"
 else
-  train_frames=${TRAIN_FRAMES:-5000} test_frames=${TEST_FRAMES:-500} steps=${STEPS:-3000}
-  batch=${BATCH:-16} size_args=""
+  train_frames=${TRAIN_FRAMES:-5000} val_frames=${VAL_FRAMES:-200} test_frames=${TEST_FRAMES:-500}
+  steps=${STEPS:-3000} batch=${BATCH:-16} val_every=${VAL_EVERY:-250} size_args=""
 fi
 lr=${LR:-1e-4}
 freeze=${FREEZE:-0}
@@ -45,15 +49,16 @@ timed() {  # timed NAME command...: runs it, appends "NAME seconds" to OUT/times
 
 # Seeds differ between the sets, so no frame, scene or person draw is shared; clips, the sport
 # wheelchair and forearm crutches are held out of training by content.
-for set in train test; do
-  frames=$train_frames seed=101 config=(--config "$root/configs/boost-train.yaml")
-  if [[ $set == test ]]; then frames=$test_frames seed=202 config=(); fi
+for set in train val test; do
+  frames=$train_frames seed=101 config=(--config "$root/configs/boost-train.yaml") clips=train
+  if [[ $set == val ]]; then frames=$val_frames seed=303; fi
+  if [[ $set == test ]]; then frames=$test_frames seed=202 config=() clips=test; fi
   if [[ ! -f "$out/$set/annotations.json" ]]; then
     log "generating the $set set ($frames frames, seed $seed)"
     resume=""
     [[ -d "$out/$set" ]] && resume="--resume"
     timed "generate_$set" "$wp" -q generate --out "$out/$set" --frames "$frames" --seed "$seed" \
-      "${config[@]}" --clips-from "$root/configs/boost-$set-clips.json" $resume
+      "${config[@]}" --clips-from "$root/configs/boost-$clips-clips.json" $resume
   fi
 done
 
@@ -82,16 +87,34 @@ if [[ ! -f "$out/run/last.pt" || ! -f "$out/run/done" ]]; then
   log "fine-tuning ($steps steps of $batch images)"
   # shellcheck disable=SC2086
   timed train "$wp" train --train "$out/train/annotations.json" --out "$out/run" \
+    --val "$out/val/annotations.json" --val-every "$val_every" \
     --steps "$steps" --batch "$batch" --lr "$lr" --freeze-backbone "$freeze" $size_args \
     ${EXTRA_TRAIN_ARGS:-} $resume
   touch "$out/run/done"
 fi
 
-log "scoring the fine-tuned model"
-timed predict_finetuned "$wp" -q predict --model "$out/run/last.pt" --coco "$test_gt" \
+log "scoring the fine-tuned model (best.pt: step $(jq .step "$out/run/best.json"))"
+timed predict_finetuned "$wp" -q predict --model "$out/run/best.pt" --coco "$test_gt" \
   --images "$test_images" --out "$out/finetuned.json"
+# The same test images before (red) and after (green) fine-tuning, over white GT: evenly spread
+# ones, and those where the fine-tuned model does worst.
 "$wp" -q eval --gt "$test_gt" --dt "$out/finetuned.json" --baseline "$out/baseline.json" \
-  --type both --out "$out/eval" --viz 4 --viz-pick worst --images "$test_images" >/dev/null
+  --type both --out "$out/eval" --viz 6 --images "$test_images" >/dev/null
+"$wp" -q eval --gt "$test_gt" --dt "$out/finetuned.json" --baseline "$out/baseline.json" \
+  --type both --out "$out/eval-worst" --viz 4 --viz-pick worst --images "$test_images" >/dev/null
+
+# The paper's Table 4 layout: baseline and fine-tuned side by side, AP in points.
+table4() {
+  jq -r '
+    def p(x): if x == null or x < 0 then "n/a" else (x * 1000 | round / 10 | tostring) end;
+    def row(name; r): "| \(name) | \(p(r.keypoints.stats.AP)) | \(p(r.keypoints.stats.AP50)) | \(p(r.keypoints.stats.AP75)) | \(p(r.keypoints.stats.APm)) | \(p(r.keypoints.stats.APl)) | \(p(r.keypoints.stats.AR)) | \(p(r.bbox.stats.AP)) | \(p(r.bbox.stats.AP50)) | \(p(r.bbox.stats.APm)) | \(p(r.bbox.stats.APl)) |";
+    "| Model | KP AP | KP AP50 | KP AP75 | KP APm | KP APl | KP AR | Box AP | Box AP50 | Box APm | Box APl |",
+    "|---|---|---|---|---|---|---|---|---|---|---|",
+    row("MoveNet MultiPose (pretrained)"; .baseline),
+    row("fine-tuned on generated data"; .results),
+    "| change (points) | \((.results.keypoints.stats.AP - .baseline.keypoints.stats.AP) * 1000 | round / 10) | \((.results.keypoints.stats.AP50 - .baseline.keypoints.stats.AP50) * 1000 | round / 10) | \((.results.keypoints.stats.AP75 - .baseline.keypoints.stats.AP75) * 1000 | round / 10) | | | \((.results.keypoints.stats.AR - .baseline.keypoints.stats.AR) * 1000 | round / 10) | \((.results.bbox.stats.AP - .baseline.bbox.stats.AP) * 1000 | round / 10) | \((.results.bbox.stats.AP50 - .baseline.bbox.stats.AP50) * 1000 | round / 10) | | |"
+  ' "$out/eval/metrics.json"
+}
 
 first_loss=$(awk -F, 'NR==2 {print $3}' "$out/run/train_log.csv")
 last_loss=$(awk -F, 'NR>1 {n++; if (n > 0) v[n]=$3} END {s=0; k=0; for (i=n; i>n-10 && i>0; i--) {s+=v[i]; k++} print s/k}' "$out/run/train_log.csv")
@@ -104,19 +127,58 @@ last_loss=$(awk -F, 'NR>1 {n++; if (n > 0) v[n]=$3} END {s=0; k=0; for (i=n; i>n
   echo "people sit in the sport wheelchair or use forearm crutches, which training never drew. Model: MoveNet MultiPose, fine-tuned $steps steps ×"
   echo "$batch images (lr $lr, backbone frozen for $freeze steps), scored at predict's default input."
   echo
-  echo "## Baseline vs fine-tuned on the test set"
+  echo "## Baseline vs fine-tuned on the test set ($test_frames frames, predict's default input)"
+  echo
+  table4
   echo
   cat "$out/eval/comparison.md"
   echo
   echo "## Training"
   echo
-  echo "Loss at step 1: $first_loss; mean of the last 10 steps: $last_loss (train_log.csv)."
+  echo "Loss at step 1: $first_loss; mean of the last 10 steps: $last_loss (run/train_log.csv)."
+  echo "Validation ($val_frames frames of the training distribution, seed 303; run/val_log.csv),"
+  echo "the weights scored on the test set are those of step $(jq .step "$out/run/best.json"):"
+  echo
+  echo "| step | KP AP | KP AP50 | KP AR | Box AP | Box AP50 |"
+  echo "|---|---|---|---|---|---|"
+  awk -F, 'NR > 1 {printf "| %d | %.3f | %.3f | %.3f | %.3f | %.3f |\n", $1, $2, $3, $4, $5, $6}' \
+    "$out/run/val_log.csv"
+  echo
+  echo "![loss and validation curves](run/curves.png)"
   echo
   echo "## Wall time (s, this machine)"
   echo
   sed 's/^/    /' "$out/times.txt"
   echo
-  echo "Overlays of the test images where the fine-tuned model does worst: eval/viz/."
+  echo "## The same test images before and after"
+  echo
+  echo "White: ground truth; red: pretrained; green: fine-tuned (people scoring at least 0.5)."
+  echo
+  for f in "$out"/eval/viz/*.jpg "$out"/eval-worst/viz/*.jpg; do
+    [[ -f $f ]] && echo "![${f#"$out"/}](${f#"$out"/})"
+  done
 } >"$out/report.md.tmp"
 mv "$out/report.md.tmp" "$out/report.md"
-log "wrote $out/report.md"
+
+# The same report as one HTML page (tables, headings, images and paragraphs are all it uses).
+awk '
+  function esc(s) { gsub(/&/, "\\&amp;", s); gsub(/</, "\\&lt;", s); gsub(/>/, "\\&gt;", s); return s }
+  function close_table() { if (in_table) print "</table>"; in_table = 0 }
+  BEGIN { print "<!doctype html><html><head><meta charset=\"utf-8\"><title>WheelPose model boosting</title>";
+          print "<style>body{font-family:sans-serif;max-width:1200px;margin:2em auto}table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 8px;text-align:right}img{max-width:100%}</style></head><body>" }
+  /^\|---/ { next }
+  /^\|/ { if (!in_table) { print "<table>"; in_table = 1 }
+          n = split($0, cells, "|"); row = "<tr>";
+          for (i = 2; i < n; i++) row = row "<td>" esc(cells[i]) "</td>";
+          print row "</tr>"; next }
+  { close_table() }
+  /^# / { print "<h1>" esc(substr($0, 3)) "</h1>"; next }
+  /^## / { print "<h2>" esc(substr($0, 4)) "</h2>"; next }
+  /^!\[/ { src = $0; sub(/^!\[[^]]*\]\(/, "", src); sub(/\)$/, "", src); print "<p><img src=\"" src "\"></p>"; next }
+  /^    / { print "<pre>" esc(substr($0, 5)) "</pre>"; next }
+  /^$/ { next }
+  { print "<p>" esc($0) "</p>" }
+  END { close_table(); print "</body></html>" }
+' "$out/report.md" >"$out/report.html.tmp"
+mv "$out/report.html.tmp" "$out/report.html"
+log "wrote $out/report.md and $out/report.html"

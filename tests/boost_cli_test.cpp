@@ -1,6 +1,6 @@
 // The model-boosting experiment end to end at its --quick size: scripts/boost.sh generates a
 // training and a held-out test set, scores the pretrained model, fine-tunes it, scores it again
-// and writes the report.
+// (validating and keeping the best weights) and writes the report as Markdown and HTML.
 
 #include <gtest/gtest.h>
 
@@ -29,7 +29,13 @@ TEST(BoostScript, QuickRunWritesTheComparison) {
   EXPECT_NE(report.find("| KP AP | "), std::string::npos) << report;
   EXPECT_NE(report.find("| BB AP | "), std::string::npos) << report;
   EXPECT_NE(report.find("No clip is shared"), std::string::npos) << report;
+  EXPECT_NE(report.find("| Model | KP AP | KP AP50 |"), std::string::npos) << report;
   EXPECT_TRUE(fs::exists(out / "run" / "last.pt"));
+  EXPECT_TRUE(fs::exists(out / "run" / "best.pt"));
+  EXPECT_TRUE(fs::exists(out / "run" / "curves.png"));
+  const std::string html = read_text(out / "report.html");
+  EXPECT_NE(html.find("<img src=\"run/curves.png\">"), std::string::npos) << html;
+  EXPECT_NE(html.find("<td> KP AP </td>"), std::string::npos) << html;
   EXPECT_TRUE(fs::exists(out / "finetuned.json"));
 }
 
