@@ -142,15 +142,14 @@ TrainSample augment(const cv::Mat& rgb, const std::vector<TrainPerson>& people,
   const double size = o.input_size;
   for (const TrainPerson& p : people) {
     TrainPerson out;
-    double x0 = 1e30, y0 = 1e30, x1 = -1e30, y1 = -1e30;
-    for (const auto& [bx, by] : {std::pair{p.box.x, p.box.y},
-                                 {p.box.x + p.box.w, p.box.y},
-                                 {p.box.x, p.box.y + p.box.h},
-                                 {p.box.x + p.box.w, p.box.y + p.box.h}}) {
-      const cv::Point2d q = map(bx, by);
-      x0 = std::min(x0, q.x), y0 = std::min(y0, q.y), x1 = std::max(x1, q.x),
-      y1 = std::max(y1, q.y);
-    }
+    // The box of the ellipse inscribed in the person's box, carried through the transform:
+    // exact without rotation, and under rotation far closer to the rotated person's own box
+    // than the rotated corners, which would teach the box head to draw every box too wide.
+    const cv::Point2d c = map(p.box.x + p.box.w / 2, p.box.y + p.box.h / 2);
+    const double a = p.box.w / 2, b = p.box.h / 2;
+    const double half_w = std::hypot(m(0, 0) * a, m(0, 1) * b);
+    const double half_h = std::hypot(m(1, 0) * a, m(1, 1) * b);
+    double x0 = c.x - half_w, x1 = c.x + half_w, y0 = c.y - half_h, y1 = c.y + half_h;
     x0 = std::clamp(x0, 0.0, size), x1 = std::clamp(x1, 0.0, size);
     y0 = std::clamp(y0, 0.0, size), y1 = std::clamp(y1, 0.0, size);
     if (x1 - x0 < 2 || y1 - y0 < 2) continue;  // left the input

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -38,6 +40,36 @@ AugmentOptions geometry_only() {
   o.blur_probability = 0;
   o.jpeg_probability = 0;
   return o;
+}
+
+// Without rotation a box keeps its exact size (scale 1 here) and stays centred on the person;
+// with rotation it grows only by the rotated inscribed ellipse (≤ 15°: at most w cos + h sin of
+// the ellipse's half-axes, under the rotated corners' w cos + h sin of the full box).
+TEST(Augment, BoxesStayTightUnderRotation) {
+  const DotScene scene;
+  AugmentOptions o = geometry_only();
+  o.input_size = 160;
+  o.shift_fraction = 0;
+  o.scale_min = o.scale_max = 1;
+  o.rotate_degrees = 0;
+  for (std::uint64_t key = 0; key < 5; ++key) {
+    const TrainSample s = augment(scene.rgb, {scene.person}, {}, o, 3, key);
+    ASSERT_EQ(s.people.size(), 1u);
+    EXPECT_NEAR(s.people[0].box.w, 80, 1e-9);
+    EXPECT_NEAR(s.people[0].box.h, 120, 1e-9);
+    EXPECT_NEAR(s.people[0].box.x + s.people[0].box.w / 2, 80, 1e-9);
+    EXPECT_NEAR(s.people[0].box.y + s.people[0].box.h / 2, 80, 1e-9);
+  }
+  o.rotate_degrees = 15;
+  const double t = 15 * 3.14159265358979 / 180;
+  for (std::uint64_t key = 0; key < 20; ++key) {
+    const TrainSample s = augment(scene.rgb, {scene.person}, {}, o, 3, key);
+    ASSERT_EQ(s.people.size(), 1u);
+    EXPECT_LE(s.people[0].box.w, std::hypot(80 * std::cos(t), 120 * std::sin(t)) + 1e-9);
+    EXPECT_GE(s.people[0].box.w, 80 - 1e-9);
+    EXPECT_LE(s.people[0].box.h, 120 + 1e-9);
+    EXPECT_NEAR(s.people[0].box.x + s.people[0].box.w / 2, 80, 1e-9);
+  }
 }
 
 // The keypoints travel with the pixels: after any scale, rotation, shift and flip the image is
