@@ -106,8 +106,8 @@ TEST(TrainCli, ValidationKeepsTheBestWeightsAndMatchesPredictPlusEval) {
   const json best_json = json::parse(read_text(dir / "whole" / "best.json"));
   EXPECT_EQ(best_json["step"].get<int>(), best->first);
 
-  r = run_wheelpose("predict --model " + (dir / "whole" / "best.pt").string() + " --size 320 --coco " +
-                    gt.string() + " --images " + dir.string() + " --out " +
+  r = run_wheelpose("predict --model " + (dir / "whole" / "best.pt").string() +
+                    " --size 320 --coco " + gt.string() + " --images " + dir.string() + " --out " +
                     (dir / "best.json").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   r = run_wheelpose("eval --gt " + gt.string() + " --dt " + (dir / "best.json").string() +

@@ -153,7 +153,8 @@ void run_predict(const PredictCommandOptions& o) {
     const std::vector<learn::PosePrediction> people =
         predictor.multi_person() ? predictor.predict_image(rgb)
                                  : predictor.predict_boxes(rgb, jobs[i].boxes);
-    for (const learn::PosePrediction& p : people) results.push_back(learn::coco_result_json(jobs[i].id, p));
+    for (const learn::PosePrediction& p : people)
+      results.push_back(learn::coco_result_json(jobs[i].id, p));
     progress(static_cast<std::int64_t>(i + 1), static_cast<std::int64_t>(jobs.size()));
   }
   write_file_atomic(o.out, results.dump() + "\n");

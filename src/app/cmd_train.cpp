@@ -41,26 +41,31 @@ void run_train(TrainCommandOptions& c) {
   if (!c.val.empty()) o.val_coco = fs::path(c.val);
   retain_large_blocks();
   Progress progress("train", "steps");
-  const learn::TrainResult result = learn::train(o, [&](const learn::StepReport& r) {
-    if (r.step % 10 == 0 || r.step == o.steps) {
-      spdlog::info(
-          "train: step {} loss {:.4f} (centre {:.3f}, heatmaps {:.3f}, regression {:.3f}, "
-          "offsets {:.3f}, box {:.3f}+{:.3f}), {:.1f} images/s",
-          r.step, r.loss, r.centre, r.keypoint_heatmap, r.keypoint_regression, r.keypoint_offset,
-          r.box_scale, r.box_offset, r.images_per_second);
-    }
-    progress(r.step, o.steps);
-  }, [&](const learn::ValidationRow& v) {
-    spdlog::info("train: validation at step {}: keypoint AP {:.3f} (AP50 {:.3f}, AR {:.3f}), box AP "
-                 "{:.3f} (AP50 {:.3f})",
-                 v.step, v.keypoint_ap, v.keypoint_ap50, v.keypoint_ar, v.box_ap, v.box_ap50);
-  });
+  const learn::TrainResult result = learn::train(
+      o,
+      [&](const learn::StepReport& r) {
+        if (r.step % 10 == 0 || r.step == o.steps) {
+          spdlog::info(
+              "train: step {} loss {:.4f} (centre {:.3f}, heatmaps {:.3f}, regression {:.3f}, "
+              "offsets {:.3f}, box {:.3f}+{:.3f}), {:.1f} images/s",
+              r.step, r.loss, r.centre, r.keypoint_heatmap, r.keypoint_regression,
+              r.keypoint_offset, r.box_scale, r.box_offset, r.images_per_second);
+        }
+        progress(r.step, o.steps);
+      },
+      [&](const learn::ValidationRow& v) {
+        spdlog::info(
+            "train: validation at step {}: keypoint AP {:.3f} (AP50 {:.3f}, AR {:.3f}), box AP "
+            "{:.3f} (AP50 {:.3f})",
+            v.step, v.keypoint_ap, v.keypoint_ap50, v.keypoint_ar, v.box_ap, v.box_ap50);
+      });
   const int done = result.start_step + static_cast<int>(result.steps.size());
   spdlog::info("train: {} of {} steps done; weights in {}", done, o.steps,
                (fs::path(c.out) / "last.pt").string());
   if (result.best) {
-    spdlog::info("train: best validation keypoint AP {:.3f} at step {}: {}", result.best->keypoint_ap,
-                 result.best->step, (fs::path(c.out) / "best.pt").string());
+    spdlog::info("train: best validation keypoint AP {:.3f} at step {}: {}",
+                 result.best->keypoint_ap, result.best->step,
+                 (fs::path(c.out) / "best.pt").string());
   }
 }
 

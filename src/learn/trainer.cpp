@@ -248,9 +248,12 @@ std::vector<ValidationRow> parse_val_log(const std::string& text) {
 }
 
 nlohmann::json val_json(const ValidationRow& r) {
-  return {{"step", r.step},          {"keypoint_ap", r.keypoint_ap},
-          {"keypoint_ap50", r.keypoint_ap50}, {"keypoint_ar", r.keypoint_ar},
-          {"box_ap", r.box_ap},      {"box_ap50", r.box_ap50}};
+  return {{"step", r.step},
+          {"keypoint_ap", r.keypoint_ap},
+          {"keypoint_ap50", r.keypoint_ap50},
+          {"keypoint_ar", r.keypoint_ar},
+          {"box_ap", r.box_ap},
+          {"box_ap50", r.box_ap50}};
 }
 
 void save_checkpoint(GraphModule& model, torch::optim::AdamW& optimizer, int step,
@@ -398,8 +401,8 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
   auto validate = [&](int done) {
     model.save(o.out_dir / "last.pt");
     const ValidationScores v = validator->score(o.model_json, o.out_dir / "last.pt");
-    const ValidationRow row{done, v.keypoint_ap, v.keypoint_ap50, v.keypoint_ar, v.box_ap,
-                            v.box_ap50};
+    const ValidationRow row{done,          v.keypoint_ap, v.keypoint_ap50,
+                            v.keypoint_ar, v.box_ap,      v.box_ap50};
     if (!result.best || row.keypoint_ap > result.best->keypoint_ap) {
       write_file_atomic(o.out_dir / "best.pt", read_file(o.out_dir / "last.pt"));
       write_file_atomic(o.out_dir / "best.json", val_json(row).dump(2) + "\n");

@@ -28,9 +28,9 @@ struct TrainOptions {
   double learning_rate = 1e-4;
   double weight_decay = 1e-4;
   int warmup_steps = 50;
-  int freeze_backbone_steps = 0;   // train only the heads for the first N steps
+  int freeze_backbone_steps = 0;    // train only the heads for the first N steps
   double backbone_lr_scale = 0.05;  // the backbone's learning rate relative to the heads'
-  double clip_norm = 5.0;          // gradient L2 norm cap
+  double clip_norm = 5.0;           // gradient L2 norm cap
   int checkpoint_every = 100;
   int loader_threads = 1;  // batches prepared ahead, each on its own thread
   int threads = 0;         // torch intra-op threads; 0 = every core
@@ -61,8 +61,8 @@ struct ValidationRow {
 };
 
 struct TrainResult {
-  int start_step = 0;                    // > 0 after --resume
-  std::vector<StepReport> steps;         // the steps this call ran
+  int start_step = 0;                     // > 0 after --resume
+  std::vector<StepReport> steps;          // the steps this call ran
   std::vector<ValidationRow> validation;  // the validations this call ran
   std::optional<ValidationRow> best;      // with --val: the best so far (best.pt holds it)
 };

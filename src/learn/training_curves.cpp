@@ -73,8 +73,8 @@ void draw_training_curves(const fs::path& run_dir) {
     int column, colour;
     const char* name;
   };
-  const Series series[] = {{2, 1, "total"},      {3, 2, "centre"},   {4, 3, "keypoint heatmaps"},
-                           {5, 4, "regression"}, {6, 6, "offsets"},  {7, 7, "box scale"},
+  const Series series[] = {{2, 1, "total"},      {3, 2, "centre"},  {4, 3, "keypoint heatmaps"},
+                           {5, 4, "regression"}, {6, 6, "offsets"}, {7, 7, "box scale"},
                            {8, 5, "box offset"}};
   std::vector<std::vector<double>> smoothed;
   double top = 0;

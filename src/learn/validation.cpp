@@ -29,7 +29,8 @@ Validator::Validator(const fs::path& coco, int longer_side, int threads)
       longer_side_(longer_side),
       threads_(threads) {
   if (longer_side < 32 || longer_side % 32 != 0) {
-    throw Error("--val-size " + std::to_string(longer_side) + ": must be a positive multiple of 32");
+    throw Error("--val-size " + std::to_string(longer_side) +
+                ": must be a positive multiple of 32");
   }
   if (gt_.images.empty()) throw Error(coco.string() + ": no images to validate on");
   const fs::path root = image_root(coco);
