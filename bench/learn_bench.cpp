@@ -21,6 +21,8 @@
 #include "learn/letterbox.h"
 #include "learn/model_files.h"
 #include "learn/pose_predictor.h"
+#include "learn/train_data.h"
+#include "learn/train_probe.h"
 
 namespace {
 
@@ -108,6 +110,38 @@ void write_tfjs_inputs(const fs::path& dir) {
         wheelpose::learn::crop_image(rgb, crop, 256));
   wheelpose::write_file_atomic(dir / "manifest.json", manifest.dump(2) + "\n");
 }
+
+// Training throughput as `train` runs it (batch 16 at 256², augmented crops of the COCO
+// sample's people, data loading excluded): channels-last convolutions (what train uses) against
+// NCHW. Items are images, so items_per_second is images/s.
+void BM_TrainStep(benchmark::State& state) {
+  const bool channels_last = state.range(0) != 0;
+  const fs::path sample = fs::path(WHEELPOSE_SHARED_DIR) / "data" / "coco-sample";
+  const wheelpose::learn::TrainSet set =
+      wheelpose::learn::load_train_set({{sample / "person_keypoints_sample.json", 1}});
+  const wheelpose::learn::TrainImage& image = set.images.at(0);
+  cv::Mat rgb;
+  cv::cvtColor(cv::imread(image.file.string()), rgb, cv::COLOR_BGR2RGB);
+  constexpr int kBatch = 16, kSize = 256;
+  wheelpose::learn::AugmentOptions augment;
+  augment.input_size = kSize;
+  std::vector<wheelpose::learn::TrainSample> samples;
+  for (int i = 0; i < kBatch; ++i) {
+    samples.push_back(wheelpose::learn::augment(rgb, image.people, {}, augment, 1, i));
+  }
+  const fs::path model = wheelpose::learn::resolve_model("movenet-multipose", std::nullopt);
+  wheelpose::learn::TrainStepProbe probe(model, samples, kSize, channels_last, bench_threads());
+  probe.step();  // the first step allocates the optimizer state
+  for (auto _ : state) benchmark::DoNotOptimize(probe.step());
+  state.SetItemsProcessed(state.iterations() * kBatch);
+}
+BENCHMARK(BM_TrainStep)
+    ->ArgName("channels_last")
+    ->Arg(1)
+    ->Arg(0)
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(10)
+    ->UseRealTime();
 
 }  // namespace
 

@@ -18,7 +18,7 @@
 #include "core/error.h"
 #include "eval/keypoint_template.h"
 #include "learn/graph_module.h"
-#include "learn/movenet_targets.h"
+#include "learn/train_step.h"
 #include "learn/training_curves.h"
 #include "learn/validation.h"
 
@@ -28,145 +28,26 @@ namespace {
 namespace fs = std::filesystem;
 using torch::Tensor;
 
-// MoveNet MultiPose's head convolutions (NHWC outputs at stride 4, before any decoding).
-const std::vector<std::string> kHeads = {
-    "StatefulPartitionedCall/center_0/conv2d_4/BiasAdd",       // 1: person-centre logits
-    "StatefulPartitionedCall/box_scale_0/conv2d_5/BiasAdd",    // 2: box (h, w) in cells
-    "StatefulPartitionedCall/box_offset_0/conv2d_6/BiasAdd",   // 2: centre (dy, dx)
-    "StatefulPartitionedCall/kpt_heatmap_0/conv2d_7/BiasAdd",  // 17: keypoint logits
-    "StatefulPartitionedCall/kpt_regress_0/conv2d_8/BiasAdd",  // 34: keypoint − centre cell
-    "StatefulPartitionedCall/kpt_offset_0/conv2d_9/BiasAdd",   // 34: keypoint − its cell
-};
-
-// Loss weights (CenterNet's: heatmaps and offsets 1, sizes 0.1; regression in cells 0.1).
-constexpr double kCentreWeight = 1, kHeatmapWeight = 1, kRegressWeight = 0.1, kOffsetWeight = 1,
-                 kScaleWeight = 0.1, kBoxOffsetWeight = 1;
-
-struct Batch {
-  Tensor images;                                             // B×S×S×3 float 0..255
-  Tensor centre_heatmap;                                     // B×G×G×1
-  Tensor keypoint_heatmap;                                   // B×G×G×17
-  Tensor centre_index;                                       // N (b·G² + cell)
-  Tensor regress, regress_mask, scale, box_offset;           // N×34, N×34, N×2, N×2
-  Tensor keypoint_index, keypoint_channel, keypoint_offset;  // M, M, M×2
-};
-
 struct Data {
   TrainSet set;
   std::vector<double> cumulative;
   std::vector<std::pair<int, int>> flip_pairs;
 };
 
-Batch make_batch(const Data& data, const TrainOptions& o, std::int64_t step) {
-  const int b = o.batch, s = o.augment.input_size, g = s / kOutputStride;
-  Batch batch;
-  batch.images = torch::empty({b, s, s, 3}, torch::kFloat);
-  batch.centre_heatmap = torch::empty({b, g, g, 1}, torch::kFloat);
-  batch.keypoint_heatmap = torch::empty({b, g, g, kKeypoints}, torch::kFloat);
-  std::vector<std::int64_t> centre_index, keypoint_index, keypoint_channel;
-  std::vector<float> regress, regress_mask, scale, box_offset, keypoint_offset;
-  for (int slot = 0; slot < b; ++slot) {
+// The augmented batch of optimizer step `step`: a pure function of (seed, step).
+TrainBatch make_batch(const Data& data, const TrainOptions& o, std::int64_t step) {
+  std::vector<TrainSample> samples;
+  for (int slot = 0; slot < o.batch; ++slot) {
     const TrainImage& image = data.set.images[pick_image(data.cumulative, o.seed, step, slot)];
     const cv::Mat bgr = cv::imread(image.file.string(), cv::IMREAD_COLOR);
     if (bgr.empty()) throw Error(image.file.string() + ": cannot decode image");
     cv::Mat rgb;
     cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
-    const TrainSample sample =
+    samples.push_back(
         augment(rgb, image.people, data.flip_pairs, o.augment, o.seed,
-                static_cast<std::uint64_t>(step) * static_cast<std::uint64_t>(b) + slot);
-    const MovenetTargets t = build_targets(sample.people, s);
-    cv::Mat f;
-    sample.rgb.convertTo(f, CV_32FC3);
-    batch.images[slot].copy_(torch::from_blob(f.data, {s, s, 3}, torch::kFloat));
-    batch.centre_heatmap[slot].copy_(
-        torch::from_blob(const_cast<float*>(t.centre_heatmap.data()), {g, g, 1}, torch::kFloat));
-    batch.keypoint_heatmap[slot].copy_(torch::from_blob(
-        const_cast<float*>(t.keypoint_heatmap.data()), {g, g, kKeypoints}, torch::kFloat));
-    const std::int64_t base = static_cast<std::int64_t>(slot) * g * g;
-    for (const CentreTarget& c : t.centres) {
-      centre_index.push_back(base + c.cell);
-      regress.insert(regress.end(), c.regress.begin(), c.regress.end());
-      for (float m : c.regress_mask) regress_mask.insert(regress_mask.end(), {m, m});
-      scale.insert(scale.end(), c.scale.begin(), c.scale.end());
-      box_offset.insert(box_offset.end(), c.offset.begin(), c.offset.end());
-    }
-    for (const KeypointTarget& k : t.keypoints) {
-      keypoint_index.push_back(base + k.cell);
-      keypoint_channel.push_back(k.keypoint);
-      keypoint_offset.insert(keypoint_offset.end(), k.offset.begin(), k.offset.end());
-    }
+                static_cast<std::uint64_t>(step) * static_cast<std::uint64_t>(o.batch) + slot));
   }
-  auto longs = [](const std::vector<std::int64_t>& v) { return torch::tensor(v, torch::kLong); };
-  auto floats = [](const std::vector<float>& v, std::int64_t columns) {
-    return torch::tensor(v, torch::kFloat).reshape({-1, columns});
-  };
-  batch.centre_index = longs(centre_index);
-  batch.regress = floats(regress, 2 * kKeypoints);
-  batch.regress_mask = floats(regress_mask, 2 * kKeypoints);
-  batch.scale = floats(scale, 2);
-  batch.box_offset = floats(box_offset, 2);
-  batch.keypoint_index = longs(keypoint_index);
-  batch.keypoint_channel = longs(keypoint_channel);
-  batch.keypoint_offset = floats(keypoint_offset, 2);
-  return batch;
-}
-
-// CenterNet's penalty-reduced focal loss (α = 2, β = 4) over a heatmap, per positive cell.
-Tensor focal_loss(const Tensor& logits, const Tensor& target) {
-  const Tensor p = torch::sigmoid(logits).clamp(1e-4, 1 - 1e-4);
-  const Tensor positive = target.ge(1.0).to(torch::kFloat);
-  const Tensor pos_loss = torch::log(p) * (1 - p).pow(2) * positive;
-  const Tensor neg_loss = torch::log(1 - p) * p.pow(2) * (1 - target).pow(4) * (1 - positive);
-  return -(pos_loss.sum() + neg_loss.sum()) / positive.sum().clamp_min(1.0);
-}
-
-// Rows `index` of an NHWC head flattened to (B·G²)×C.
-Tensor rows(const Tensor& head, const Tensor& index) {
-  return head.reshape({-1, head.size(3)}).index_select(0, index);
-}
-
-struct Losses {
-  Tensor total;
-  StepReport parts;
-};
-
-Losses compute_losses(const TensorMap& heads, const Batch& b) {
-  const Tensor& centre = heads.at(kHeads[0]);
-  const Tensor& scale = heads.at(kHeads[1]);
-  const Tensor& box_offset = heads.at(kHeads[2]);
-  const Tensor& heatmap = heads.at(kHeads[3]);
-  const Tensor& regress = heads.at(kHeads[4]);
-  const Tensor& offset = heads.at(kHeads[5]);
-  const double people = std::max<std::int64_t>(1, b.centre_index.size(0));
-  const Tensor l_centre = focal_loss(centre, b.centre_heatmap) * kCentreWeight;
-  const Tensor l_heatmap = focal_loss(heatmap, b.keypoint_heatmap) * kHeatmapWeight;
-  Tensor l_regress = torch::zeros({}), l_scale = torch::zeros({}), l_box = torch::zeros({}),
-         l_offset = torch::zeros({});
-  if (b.centre_index.size(0) > 0) {
-    l_regress = (rows(regress, b.centre_index) - b.regress).abs().mul(b.regress_mask).sum() /
-                b.regress_mask.sum().clamp_min(1.0) * kRegressWeight;
-    l_scale = (rows(scale, b.centre_index) - b.scale).abs().sum() / people * kScaleWeight;
-    l_box =
-        (rows(box_offset, b.centre_index) - b.box_offset).abs().sum() / people * kBoxOffsetWeight;
-  }
-  if (b.keypoint_index.size(0) > 0) {
-    // Keypoint k's (dy, dx) are channels 2k and 2k + 1.
-    const Tensor picked = rows(offset, b.keypoint_index).reshape({-1, kKeypoints, 2});
-    const Tensor at_k =
-        picked.gather(1, b.keypoint_channel.view({-1, 1, 1}).expand({-1, 1, 2})).squeeze(1);
-    l_offset = (at_k - b.keypoint_offset).abs().sum() /
-               static_cast<double>(b.keypoint_index.size(0)) * kOffsetWeight;
-  }
-  Losses out;
-  out.total = l_centre + l_heatmap + l_regress + l_offset + l_scale + l_box;
-  out.parts.loss = out.total.item<double>();
-  out.parts.centre = l_centre.item<double>();
-  out.parts.keypoint_heatmap = l_heatmap.item<double>();
-  out.parts.keypoint_regression = l_regress.item<double>();
-  out.parts.keypoint_offset = l_offset.item<double>();
-  out.parts.box_scale = l_scale.item<double>();
-  out.parts.box_offset = l_box.item<double>();
-  return out;
+  return make_train_batch(samples, o.augment.input_size);
 }
 
 double learning_rate_at(const TrainOptions& o, int step) {
@@ -420,7 +301,7 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
     if (done.empty() || done.back().step != result.start_step) validate(result.start_step);
   }
 
-  std::deque<std::future<Batch>> ahead;
+  std::deque<std::future<TrainBatch>> ahead;
   int next_to_load = result.start_step;
   auto fill = [&] {
     while (static_cast<int>(ahead.size()) < o.loader_threads + 1 && next_to_load < o.steps) {
@@ -431,7 +312,7 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
   for (int step = result.start_step; step < o.steps; ++step) {
     const auto start = std::chrono::steady_clock::now();
     fill();
-    Batch batch = ahead.front().get();
+    TrainBatch batch = ahead.front().get();
     ahead.pop_front();
     fill();
     const bool frozen = step < o.freeze_backbone_steps;
@@ -441,20 +322,9 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
       static_cast<torch::optim::AdamWOptions&>(optimizer.param_groups()[g].options())
           .lr(lr * group_scale[g]);
     }
-    optimizer.zero_grad();
-    const TensorMap heads = model.forward_only(batch.images, kHeads);
-    Losses losses = compute_losses(heads, batch);
-    if (!std::isfinite(losses.parts.loss)) {
-      throw Error("train: the loss became " + std::to_string(losses.parts.loss) + " at step " +
-                      std::to_string(step + 1) + "; lower --lr",
-                  ErrorKind::kFailure);
-    }
-    losses.total.backward();
-    torch::nn::utils::clip_grad_norm_(model.parameters(), o.clip_norm);
-    optimizer.step();
+    StepReport report = optimizer_step(model, optimizer, batch, o.clip_norm, step + 1);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    StepReport report = losses.parts;
     report.step = step + 1;
     report.learning_rate = lr;
     report.images_per_second = o.batch / std::max(seconds, 1e-9);

@@ -1,0 +1,149 @@
+#include "learn/train_step.h"
+
+#include <cmath>
+#include <string>
+
+#include "core/error.h"
+#include "learn/movenet_targets.h"
+
+namespace wheelpose::learn {
+
+using torch::Tensor;
+
+// MoveNet MultiPose's head convolutions (NHWC outputs at stride 4, before any decoding).
+const std::vector<std::string> kMovenetHeads = {
+    "StatefulPartitionedCall/center_0/conv2d_4/BiasAdd",       // 1: person-centre logits
+    "StatefulPartitionedCall/box_scale_0/conv2d_5/BiasAdd",    // 2: box (h, w) in cells
+    "StatefulPartitionedCall/box_offset_0/conv2d_6/BiasAdd",   // 2: centre (dy, dx)
+    "StatefulPartitionedCall/kpt_heatmap_0/conv2d_7/BiasAdd",  // 17: keypoint logits
+    "StatefulPartitionedCall/kpt_regress_0/conv2d_8/BiasAdd",  // 34: keypoint − centre cell
+    "StatefulPartitionedCall/kpt_offset_0/conv2d_9/BiasAdd",   // 34: keypoint − its cell
+};
+
+namespace {
+
+// Loss weights (CenterNet's: heatmaps and offsets 1, sizes 0.1; regression in cells 0.1).
+constexpr double kCentreWeight = 1, kHeatmapWeight = 1, kRegressWeight = 0.1, kOffsetWeight = 1,
+                 kScaleWeight = 0.1, kBoxOffsetWeight = 1;
+
+// CenterNet's penalty-reduced focal loss (α = 2, β = 4) over a heatmap, per positive cell.
+Tensor focal_loss(const Tensor& logits, const Tensor& target) {
+  const Tensor p = torch::sigmoid(logits).clamp(1e-4, 1 - 1e-4);
+  const Tensor positive = target.ge(1.0).to(torch::kFloat);
+  const Tensor pos_loss = torch::log(p) * (1 - p).pow(2) * positive;
+  const Tensor neg_loss = torch::log(1 - p) * p.pow(2) * (1 - target).pow(4) * (1 - positive);
+  return -(pos_loss.sum() + neg_loss.sum()) / positive.sum().clamp_min(1.0);
+}
+
+// Rows `index` of an NHWC head flattened to (B·G²)×C.
+Tensor rows(const Tensor& head, const Tensor& index) {
+  return head.reshape({-1, head.size(3)}).index_select(0, index);
+}
+
+}  // namespace
+
+TrainBatch make_train_batch(const std::vector<TrainSample>& samples, int input_size) {
+  WHEELPOSE_CHECK(input_size % kOutputStride == 0 && !samples.empty());
+  const int b = static_cast<int>(samples.size()), s = input_size, g = s / kOutputStride;
+  TrainBatch batch;
+  batch.images = torch::empty({b, s, s, 3}, torch::kFloat);
+  batch.centre_heatmap = torch::empty({b, g, g, 1}, torch::kFloat);
+  batch.keypoint_heatmap = torch::empty({b, g, g, kKeypoints}, torch::kFloat);
+  std::vector<std::int64_t> centre_index, keypoint_index, keypoint_channel;
+  std::vector<float> regress, regress_mask, scale, box_offset, keypoint_offset;
+  for (int slot = 0; slot < b; ++slot) {
+    const TrainSample& sample = samples[slot];
+    WHEELPOSE_CHECK(sample.rgb.rows == s && sample.rgb.cols == s && sample.rgb.type() == CV_8UC3);
+    const MovenetTargets t = build_targets(sample.people, s);
+    cv::Mat f;
+    sample.rgb.convertTo(f, CV_32FC3);
+    batch.images[slot].copy_(torch::from_blob(f.data, {s, s, 3}, torch::kFloat));
+    batch.centre_heatmap[slot].copy_(
+        torch::from_blob(const_cast<float*>(t.centre_heatmap.data()), {g, g, 1}, torch::kFloat));
+    batch.keypoint_heatmap[slot].copy_(torch::from_blob(
+        const_cast<float*>(t.keypoint_heatmap.data()), {g, g, kKeypoints}, torch::kFloat));
+    const std::int64_t base = static_cast<std::int64_t>(slot) * g * g;
+    for (const CentreTarget& c : t.centres) {
+      centre_index.push_back(base + c.cell);
+      regress.insert(regress.end(), c.regress.begin(), c.regress.end());
+      for (float m : c.regress_mask) regress_mask.insert(regress_mask.end(), {m, m});
+      scale.insert(scale.end(), c.scale.begin(), c.scale.end());
+      box_offset.insert(box_offset.end(), c.offset.begin(), c.offset.end());
+    }
+    for (const KeypointTarget& k : t.keypoints) {
+      keypoint_index.push_back(base + k.cell);
+      keypoint_channel.push_back(k.keypoint);
+      keypoint_offset.insert(keypoint_offset.end(), k.offset.begin(), k.offset.end());
+    }
+  }
+  auto longs = [](const std::vector<std::int64_t>& v) { return torch::tensor(v, torch::kLong); };
+  auto floats = [](const std::vector<float>& v, std::int64_t columns) {
+    return torch::tensor(v, torch::kFloat).reshape({-1, columns});
+  };
+  batch.centre_index = longs(centre_index);
+  batch.regress = floats(regress, 2 * kKeypoints);
+  batch.regress_mask = floats(regress_mask, 2 * kKeypoints);
+  batch.scale = floats(scale, 2);
+  batch.box_offset = floats(box_offset, 2);
+  batch.keypoint_index = longs(keypoint_index);
+  batch.keypoint_channel = longs(keypoint_channel);
+  batch.keypoint_offset = floats(keypoint_offset, 2);
+  return batch;
+}
+
+StepLosses compute_losses(const TensorMap& heads, const TrainBatch& b) {
+  const Tensor& centre = heads.at(kMovenetHeads[0]);
+  const Tensor& scale = heads.at(kMovenetHeads[1]);
+  const Tensor& box_offset = heads.at(kMovenetHeads[2]);
+  const Tensor& heatmap = heads.at(kMovenetHeads[3]);
+  const Tensor& regress = heads.at(kMovenetHeads[4]);
+  const Tensor& offset = heads.at(kMovenetHeads[5]);
+  const double people = std::max<std::int64_t>(1, b.centre_index.size(0));
+  const Tensor l_centre = focal_loss(centre, b.centre_heatmap) * kCentreWeight;
+  const Tensor l_heatmap = focal_loss(heatmap, b.keypoint_heatmap) * kHeatmapWeight;
+  Tensor l_regress = torch::zeros({}), l_scale = torch::zeros({}), l_box = torch::zeros({}),
+         l_offset = torch::zeros({});
+  if (b.centre_index.size(0) > 0) {
+    l_regress = (rows(regress, b.centre_index) - b.regress).abs().mul(b.regress_mask).sum() /
+                b.regress_mask.sum().clamp_min(1.0) * kRegressWeight;
+    l_scale = (rows(scale, b.centre_index) - b.scale).abs().sum() / people * kScaleWeight;
+    l_box =
+        (rows(box_offset, b.centre_index) - b.box_offset).abs().sum() / people * kBoxOffsetWeight;
+  }
+  if (b.keypoint_index.size(0) > 0) {
+    // Keypoint k's (dy, dx) are channels 2k and 2k + 1.
+    const Tensor picked = rows(offset, b.keypoint_index).reshape({-1, kKeypoints, 2});
+    const Tensor at_k =
+        picked.gather(1, b.keypoint_channel.view({-1, 1, 1}).expand({-1, 1, 2})).squeeze(1);
+    l_offset = (at_k - b.keypoint_offset).abs().sum() /
+               static_cast<double>(b.keypoint_index.size(0)) * kOffsetWeight;
+  }
+  StepLosses out;
+  out.total = l_centre + l_heatmap + l_regress + l_offset + l_scale + l_box;
+  out.parts.loss = out.total.item<double>();
+  out.parts.centre = l_centre.item<double>();
+  out.parts.keypoint_heatmap = l_heatmap.item<double>();
+  out.parts.keypoint_regression = l_regress.item<double>();
+  out.parts.keypoint_offset = l_offset.item<double>();
+  out.parts.box_scale = l_scale.item<double>();
+  out.parts.box_offset = l_box.item<double>();
+  return out;
+}
+
+StepReport optimizer_step(GraphModule& model, torch::optim::Optimizer& optimizer,
+                          const TrainBatch& batch, double clip_norm, int step_number) {
+  optimizer.zero_grad();
+  const TensorMap heads = model.forward_only(batch.images, kMovenetHeads);
+  StepLosses losses = compute_losses(heads, batch);
+  if (!std::isfinite(losses.parts.loss)) {
+    throw Error("train: the loss became " + std::to_string(losses.parts.loss) + " at step " +
+                    std::to_string(step_number) + "; lower --lr",
+                ErrorKind::kFailure);
+  }
+  losses.total.backward();
+  torch::nn::utils::clip_grad_norm_(model.parameters(), clip_norm);
+  optimizer.step();
+  return losses.parts;
+}
+
+}  // namespace wheelpose::learn

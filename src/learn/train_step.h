@@ -1,0 +1,45 @@
+#pragma once
+// One optimizer step of MoveNet MultiPose fine-tuning: a batch of augmented samples with their
+// CenterNet targets (learn/movenet_targets.h) as tensors, the weighted losses, and zero-grad →
+// forward → backward → clip → step. Internal to `learn` (includes torch): trainer.cpp loops
+// it over the data, train_probe.cpp times it for the benchmark.
+
+#include <torch/torch.h>
+
+#include <string>
+#include <vector>
+
+#include "learn/graph_module.h"
+#include "learn/train_data.h"
+#include "learn/trainer.h"
+
+namespace wheelpose::learn {
+
+// The head convolutions trained, NHWC at stride 4, before the graph's own decoding.
+extern const std::vector<std::string> kMovenetHeads;
+
+struct TrainBatch {
+  torch::Tensor images;                                             // B×S×S×3 float 0..255
+  torch::Tensor centre_heatmap;                                     // B×G×G×1
+  torch::Tensor keypoint_heatmap;                                   // B×G×G×17
+  torch::Tensor centre_index;                                       // N (b·G² + cell)
+  torch::Tensor regress, regress_mask, scale, box_offset;           // N×34, N×34, N×2, N×2
+  torch::Tensor keypoint_index, keypoint_channel, keypoint_offset;  // M, M, M×2
+};
+
+// Samples of input_size² (augment's output) with their targets, as one batch.
+TrainBatch make_train_batch(const std::vector<TrainSample>& samples, int input_size);
+
+struct StepLosses {
+  torch::Tensor total;  // differentiable
+  StepReport parts;     // loss and its parts as numbers (step, rate and speed left 0)
+};
+
+// The weighted CenterNet losses of the heads' outputs against the batch's targets.
+StepLosses compute_losses(const TensorMap& heads, const TrainBatch& batch);
+
+// One step; throws Error (kFailure) naming `step_number` when the loss is not finite.
+StepReport optimizer_step(GraphModule& model, torch::optim::Optimizer& optimizer,
+                          const TrainBatch& batch, double clip_norm, int step_number);
+
+}  // namespace wheelpose::learn
