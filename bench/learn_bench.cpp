@@ -6,6 +6,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -117,17 +118,24 @@ void write_tfjs_inputs(const fs::path& dir) {
 void BM_TrainStep(benchmark::State& state) {
   const bool channels_last = state.range(0) != 0;
   const fs::path sample = fs::path(WHEELPOSE_SHARED_DIR) / "data" / "coco-sample";
-  const wheelpose::learn::TrainSet set =
-      wheelpose::learn::load_train_set({{sample / "person_keypoints_sample.json", 1}});
-  const wheelpose::learn::TrainImage& image = set.images.at(0);
+  const wheelpose::eval::CocoGroundTruth gt =
+      wheelpose::eval::load_coco_gt(sample / "person_keypoints_sample.json", 17, false);
+  std::vector<wheelpose::learn::TrainPerson> people;  // those of the one image shipped
+  for (const wheelpose::eval::GtAnnotation& a : gt.annotations) {
+    if (a.image_id != 785 || a.iscrowd || a.keypoints.size() != 51) continue;
+    wheelpose::learn::TrainPerson person;
+    person.box = a.bbox;
+    std::copy(a.keypoints.begin(), a.keypoints.end(), person.keypoints.begin());
+    people.push_back(person);
+  }
   cv::Mat rgb;
-  cv::cvtColor(cv::imread(image.file.string()), rgb, cv::COLOR_BGR2RGB);
+  cv::cvtColor(cv::imread((sample / "000000000785.jpg").string()), rgb, cv::COLOR_BGR2RGB);
   constexpr int kBatch = 16, kSize = 256;
   wheelpose::learn::AugmentOptions augment;
   augment.input_size = kSize;
   std::vector<wheelpose::learn::TrainSample> samples;
   for (int i = 0; i < kBatch; ++i) {
-    samples.push_back(wheelpose::learn::augment(rgb, image.people, {}, augment, 1, i));
+    samples.push_back(wheelpose::learn::augment(rgb, people, {}, augment, 1, i));
   }
   const fs::path model = wheelpose::learn::resolve_model("movenet-multipose", std::nullopt);
   wheelpose::learn::TrainStepProbe probe(model, samples, kSize, channels_last, bench_threads());
