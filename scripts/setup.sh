@@ -9,7 +9,7 @@ packages=(
   libcpp-httplib-dev libsqlite3-dev libopencv-dev libgif-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libplplot-dev plplot-driver-cairo libminizip-dev zlib1g-dev
-  libtorch-dev
+  libtorch-dev libgloo-dev  # gloo: headers of LibTorch's c10d Gloo backend (train --world-size)
   chromium sweethome3d-furniture blender-data jq
   blender python3-numpy  # tests/blender: Blender headless; numpy for its glTF importer
 )

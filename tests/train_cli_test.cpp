@@ -3,8 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -116,6 +118,39 @@ TEST(TrainCli, ValidationKeepsTheBestWeightsAndMatchesPredictPlusEval) {
   EXPECT_NEAR(keypoint_ap(dir / "eval" / "metrics.json"), best->second, 1e-6);
   EXPECT_NEAR(best_json["keypoint_ap"].get<double>(), best->second, 1e-6);
   EXPECT_EQ(read_text(dir / "whole" / "curves.png").substr(1, 3), "PNG");
+}
+
+// Two processes (Gloo, meeting at a file) train one run: each computes half of every batch,
+// rank 0 writes the run, and a stopped two-process run resumed continues exactly.
+TEST(TrainCli, TwoProcessesTrainOneRunAndResumeExactly) {
+  if (!have_models()) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
+  const auto dir = fresh_temp_dir("train_parallel");
+  const fs::path gt = wheelpose::testing::write_coco_sample_gt(dir, true);
+  auto pair = [&](const fs::path& out, const std::string& extra, const std::string& store) {
+    auto rank = [&](int r) {
+      return run_wheelpose(small_run(gt, out) + " --world-size 2 --rank " + std::to_string(r) +
+                           " --rendezvous file://" + (dir / store).string() + extra);
+    };
+    auto zero = std::async(std::launch::async, rank, 0);
+    auto one = std::async(std::launch::async, rank, 1);
+    const auto r0 = zero.get(), r1 = one.get();
+    EXPECT_EQ(r0.exit_code, 0) << r0.output;
+    EXPECT_EQ(r1.exit_code, 0) << r1.output;
+  };
+  pair(dir / "whole", "", "store_whole");
+  const std::string log = log_without_speed(dir / "whole" / "train_log.csv");
+  EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 5) << log;
+  EXPECT_EQ(log.find("nan"), std::string::npos) << log;
+  EXPECT_NE(read_text(dir / "whole" / "options.json").find("\"world_size\": 2"), std::string::npos);
+  pair(dir / "parts", " --stop-after 2", "store_a");
+  pair(dir / "parts", " --resume", "store_b");
+  EXPECT_EQ(read_text(dir / "whole" / "last.pt"), read_text(dir / "parts" / "last.pt"));
+  EXPECT_EQ(log, log_without_speed(dir / "parts" / "train_log.csv"));
+
+  auto r = run_wheelpose(small_run(gt, dir / "odd") + " --world-size 3 --rank 0 --rendezvous " +
+                         "file://" + (dir / "store_odd").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("multiple of --world-size"), std::string::npos) << r.output;
 }
 
 TEST(TrainCli, BadInputIsOneLineAndLeavesTheCheckpoint) {

@@ -116,6 +116,13 @@ void attach_train(CLI::App& parent) {
   cmd->add_option("--val-every", o.val_every, "Steps between validations")->capture_default_str();
   cmd->add_option("--val-size", o.val_size, "Validation input size (as predict --size)")
       ->capture_default_str();
+  cmd->add_option("--world-size", o.world_size,
+                  "Processes training together (data parallel, Gloo); each takes batch / N")
+      ->capture_default_str();
+  cmd->add_option("--rank", o.rank, "This process's rank, 0 … world size − 1 (0 writes the files)")
+      ->capture_default_str();
+  cmd->add_option("--rendezvous", o.rendezvous,
+                  "Where the processes meet: tcp://HOST:PORT (rank 0's host) or file:///PATH");
   cmd->add_flag("--resume", o.resume, "Continue the run in --out from its checkpoint");
   cmd->add_option("--stop-after", o.stop_after,
                   "Stop with a checkpoint after this many steps (continue with --resume)")

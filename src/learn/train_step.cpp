@@ -131,7 +131,8 @@ StepLosses compute_losses(const TensorMap& heads, const TrainBatch& b) {
 }
 
 StepReport optimizer_step(GraphModule& model, torch::optim::Optimizer& optimizer,
-                          const TrainBatch& batch, double clip_norm, int step_number) {
+                          const TrainBatch& batch, double clip_norm, int step_number,
+                          const std::function<void(StepReport&)>& after_backward) {
   optimizer.zero_grad();
   const TensorMap heads = model.forward_only(batch.images, kMovenetHeads);
   StepLosses losses = compute_losses(heads, batch);
@@ -141,6 +142,7 @@ StepReport optimizer_step(GraphModule& model, torch::optim::Optimizer& optimizer
                 ErrorKind::kFailure);
   }
   losses.total.backward();
+  if (after_backward) after_backward(losses.parts);
   torch::nn::utils::clip_grad_norm_(model.parameters(), clip_norm);
   optimizer.step();
   return losses.parts;

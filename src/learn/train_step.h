@@ -6,6 +6,7 @@
 
 #include <torch/torch.h>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -39,7 +40,10 @@ struct StepLosses {
 StepLosses compute_losses(const TensorMap& heads, const TrainBatch& batch);
 
 // One step; throws Error (kFailure) naming `step_number` when the loss is not finite.
+// `after_backward`, when given, runs between backward and clipping with the loss parts (data
+// parallelism averages the gradients and the parts over the processes there).
 StepReport optimizer_step(GraphModule& model, torch::optim::Optimizer& optimizer,
-                          const TrainBatch& batch, double clip_norm, int step_number);
+                          const TrainBatch& batch, double clip_norm, int step_number,
+                          const std::function<void(StepReport&)>& after_backward = {});
 
 }  // namespace wheelpose::learn

@@ -17,6 +17,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "eval/keypoint_template.h"
+#include "learn/data_parallel.h"
 #include "learn/graph_module.h"
 #include "learn/train_step.h"
 #include "learn/training_curves.h"
@@ -37,7 +38,9 @@ struct Data {
 // The augmented batch of optimizer step `step`: a pure function of (seed, step).
 TrainBatch make_batch(const Data& data, const TrainOptions& o, std::int64_t step) {
   std::vector<TrainSample> samples;
-  for (int slot = 0; slot < o.batch; ++slot) {
+  // This process's share: every world_size-th slot from its rank (the union over the ranks is
+  // the batch one process would train on).
+  for (int slot = o.rank; slot < o.batch; slot += o.world_size) {
     const TrainImage& image = data.set.images[pick_image(data.cumulative, o.seed, step, slot)];
     const cv::Mat bgr = cv::imread(image.file.string(), cv::IMREAD_COLOR);
     if (bgr.empty()) throw Error(image.file.string() + ": cannot decode image");
@@ -69,6 +72,12 @@ void check(const TrainOptions& o) {
   }
   if (o.loader_threads < 1) bad("--loader-threads must be at least 1");
   if (o.val_every < 1) bad("--val-every must be at least 1");
+  if (o.world_size < 1) bad("--world-size must be at least 1");
+  if (o.rank < 0 || o.rank >= o.world_size) bad("--rank must be in 0 … world size − 1");
+  if (o.batch % o.world_size != 0) bad("--batch must be a multiple of --world-size");
+  if (o.world_size > 1 && o.rendezvous.empty()) {
+    bad("--world-size above 1 needs --rendezvous tcp://HOST:PORT or file:///PATH");
+  }
 }
 
 const char* const kLogHeader =
@@ -205,6 +214,7 @@ std::string resume_key(const TrainOptions& o) {
                               {"val", o.val_coco ? o.val_coco->string() : ""},
                               {"val_every", o.val_every},
                               {"val_size", o.val_size},
+                              {"world_size", o.world_size},
                               {"augment",
                                {a.input_size, a.target_longer_side, a.scale_min, a.scale_max,
                                 a.shift_fraction, a.rotate_degrees, a.flip_probability,
@@ -215,8 +225,9 @@ std::string resume_key(const TrainOptions& o) {
 TrainResult train(const TrainOptions& o, const std::function<void(const StepReport&)>& on_step,
                   const std::function<void(const ValidationRow&)>& on_validation) {
   check(o);
+  const bool writer = o.rank == 0;  // the one process that writes files
   std::optional<Validator> validator;
-  if (o.val_coco) validator.emplace(*o.val_coco, o.val_size, o.threads);
+  if (o.val_coco && writer) validator.emplace(*o.val_coco, o.val_size, o.threads);
   Data data;
   data.set = load_train_set(o.train);
   for (const TrainImage& image : data.set.images) {
@@ -266,8 +277,20 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
       throw Error((o.out_dir / "checkpoint.pt").string() +
                   " exists: pass --resume to continue that run, or another --out");
     }
-    write_file_atomic(o.out_dir / "options.json", nlohmann::json::parse(key).dump(2) + "\n");
+    if (writer) {
+      write_file_atomic(o.out_dir / "options.json", nlohmann::json::parse(key).dump(2) + "\n");
+    }
   }
+  std::unique_ptr<GradientAverager> averager;
+  if (o.world_size > 1) {
+    spdlog::info("train: joining {} as rank {} of {}", o.rendezvous, o.rank, o.world_size);
+    averager = std::make_unique<GradientAverager>(o.rendezvous, o.rank, o.world_size);
+  }
+  const std::vector<Tensor> parameters = model.parameters();
+  const std::function<void(StepReport&)> average =
+      averager ? std::function<void(StepReport&)>(
+                     [&](StepReport& parts) { averager->average(parameters, parts); })
+               : std::function<void(StepReport&)>();
   const fs::path log_path = o.out_dir / "train_log.csv";
   std::string log = log_prefix(log_path, result.start_step, kLogHeader);
   const fs::path val_log_path = o.out_dir / "val_log.csv";
@@ -322,7 +345,7 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
       static_cast<torch::optim::AdamWOptions&>(optimizer.param_groups()[g].options())
           .lr(lr * group_scale[g]);
     }
-    StepReport report = optimizer_step(model, optimizer, batch, o.clip_norm, step + 1);
+    StepReport report = optimizer_step(model, optimizer, batch, o.clip_norm, step + 1, average);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     report.step = step + 1;
@@ -333,7 +356,9 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
     if (on_step) on_step(report);
     const bool stop = o.stop_after > 0 && report.step >= o.stop_after;
     const bool validating = validation_due(report.step);
-    if (report.step % o.checkpoint_every == 0 || report.step == o.steps || stop || validating) {
+    const bool checkpoint =
+        report.step % o.checkpoint_every == 0 || report.step == o.steps || stop || validating;
+    if (writer && checkpoint) {
       save_checkpoint(model, optimizer, report.step, key, o.out_dir);
       write_file_atomic(log_path, log);
       if (validating) validate(report.step);

@@ -41,6 +41,12 @@ struct TrainOptions {
   // `eval` would) before the first step, every val_every steps and at the end; the weights
   // with the best keypoint AP are kept as best.pt.
   std::optional<std::filesystem::path> val_coco;
+  // Data parallelism (learn/data_parallel.h): world_size processes, each computing `batch /
+  // world_size` of every batch; rank 0 writes every file. Needs a rendezvous
+  // ("tcp://HOST:PORT" or "file:///PATH") when world_size > 1.
+  int world_size = 1;
+  int rank = 0;
+  std::string rendezvous;
   int val_every = 250;
   int val_size = 640;
   AugmentOptions augment;
