@@ -29,6 +29,7 @@ TEST(BoostScript, QuickRunWritesTheComparison) {
   EXPECT_NE(report.find("| KP AP | "), std::string::npos) << report;
   EXPECT_NE(report.find("| BB AP | "), std::string::npos) << report;
   EXPECT_NE(report.find("No clip is shared"), std::string::npos) << report;
+  EXPECT_NE(report.find("wear clothes or hair training never drew"), std::string::npos) << report;
   EXPECT_NE(report.find("| Model | KP AP | KP AP50 |"), std::string::npos) << report;
   EXPECT_TRUE(fs::exists(out / "run" / "last.pt"));
   EXPECT_TRUE(fs::exists(out / "run" / "best.pt"));

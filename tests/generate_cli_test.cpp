@@ -323,6 +323,46 @@ TEST(GenerateCli, ClipsFromARankingRestrictTheMotions) {
   EXPECT_EQ(record["motions"].size(), 2u);
 }
 
+// Every person's MakeHuman assets are in its annotation; exclude_assets keeps the named ones out
+// (a training set that never sees some clothes and hair), and a name not installed is an error.
+TEST(GenerateCli, ExcludedAssetsAreNeverWorn) {
+  const fs::path dir = fresh_temp_dir("generate_assets");
+  const std::string excluded =
+      "[hair/bob01, hair/short02, clothes/male_casualsuit01, "
+      "clothes/female_casualsuit01, clothes/shoes01]";
+  std::ofstream(dir / "holdout.yaml")
+      << kSmallScenario << "  HumanGeneration: {min_per_frame: 3, max_per_frame: 5, pool_size: 8,"
+      << " exclude_assets: " << excluded << "}\n";
+  // The base scenario's own HumanGeneration line is replaced, not duplicated.
+  std::string text = read_text(dir / "holdout.yaml");
+  text.erase(text.find("  HumanGeneration: {min_per_frame: 3, max_per_frame: 5, pool_size: 8}\n"),
+             std::string("  HumanGeneration: {min_per_frame: 3, max_per_frame: 5, pool_size: 8}\n")
+                 .size());
+  std::ofstream(dir / "holdout.yaml") << text;
+  auto r = run_wheelpose("generate --config " + (dir / "holdout.yaml").string() + " --out " +
+                         (dir / "out").string() + " --frames 4 --seed 7");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json coco = read_json(dir / "out" / "annotations.json");
+  ASSERT_FALSE(coco["annotations"].empty());
+  int worn = 0;
+  for (const json& a : coco["annotations"]) {
+    for (const json& asset : a.at("assets")) {
+      ++worn;
+      EXPECT_EQ(excluded.find(asset.get<std::string>() + ","), std::string::npos) << asset;
+      EXPECT_EQ(excluded.find(asset.get<std::string>() + "]"), std::string::npos) << asset;
+    }
+  }
+  EXPECT_GT(worn, 0);
+
+  text.replace(text.find("hair/bob01"), 10, "hair/nope99");
+  std::ofstream(dir / "holdout.yaml") << text;
+  r = run_wheelpose("generate --config " + (dir / "holdout.yaml").string() + " --out " +
+                    (dir / "bad").string() + " --frames 2 --seed 7");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("hair/nope99"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "bad" / "annotations.json"));
+}
+
 TEST(GenerateCli, BadInputGivesOneClearLine) {
   const fs::path dir = fresh_temp_dir("generate_errors");
   const fs::path bad = dir / "bad.yaml";

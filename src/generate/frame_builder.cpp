@@ -75,9 +75,11 @@ scene::Mesh transformed_mesh(const body::TriMesh& part, const std::string& name,
   mesh.name = name;
   mesh.positions.reserve(part.vertices.size());
   for (const Vector3f& v : part.vertices) mesh.positions.push_back(to_world * v);
-  for (const Vector3f& n : part.normals) mesh.normals.push_back((to_world.linear() * n).normalized());
+  for (const Vector3f& n : part.normals)
+    mesh.normals.push_back((to_world.linear() * n).normalized());
   for (const auto& t : part.triangles)
-    mesh.triangles.emplace_back(static_cast<int>(t[0]), static_cast<int>(t[1]), static_cast<int>(t[2]));
+    mesh.triangles.emplace_back(static_cast<int>(t[0]), static_cast<int>(t[1]),
+                                static_cast<int>(t[2]));
   return mesh;
 }
 
@@ -139,7 +141,6 @@ Eigen::Matrix4f trs(const Vector3f& position, const Eigen::Quaternionf& rotation
   return a.matrix();
 }
 
-
 void add_chair(SceneAssembler& out, const body::Wheelchair& chair,
                const std::array<Vector3f, 4>& colours, const Eigen::Affine3f& to_world,
                const std::string& name, std::uint16_t id) {
@@ -180,8 +181,7 @@ bool pushes_the_rims(const std::string& clip) {
 motion::PoseRotations clip_pose(const motion::SeatedClip& clip, double time) {
   const std::size_t count = clip.motion.frame_count();
   const double f = std::floor(time * clip.motion.fps);
-  const std::size_t frame =
-      f <= 0 ? 0 : std::min(count - 1, static_cast<std::size_t>(f));
+  const std::size_t frame = f <= 0 ? 0 : std::min(count - 1, static_cast<std::size_t>(f));
   return motion::global_rotations(clip.motion, frame);
 }
 
@@ -199,8 +199,7 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
   const body::Person person = body::build_person(body_data, spec);
 
   const Vector3f pelvis = person.joints[motion::kPelvis].cast<float>();
-  const Vector3f anchor(pelvis.x(),
-                        draft.environment == EnvironmentKind::kRoom ? 0.0f : pelvis.y(),
+  const Vector3f anchor(pelvis.x(), draft.environment == EnvironmentKind::kRoom ? 0.0f : pelvis.y(),
                         pelvis.z());
   const Eigen::Affine3f to_world = Eigen::Translation3f(p.position) * p.rotation *
                                    Eigen::Scaling(p.scale) * Eigen::Translation3f(-anchor);
@@ -212,10 +211,11 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
   for (std::size_t v = 0; v < world.size(); ++v) world[v] = to_world * person.vertices[v];
   const std::vector<Vector3f> normals = body::vertex_normals(world, person.triangles);
   // A worn suit covers the body: what shows of it is skin. Otherwise paint the body by bone.
-  const bool suited = std::any_of(person.garments.begin(), person.garments.end(), [](const body::Garment& g) {
-    return g.name.rfind("clothes/", 0) == 0 && g.name.find("shoes") == std::string::npos &&
-           (g.name.rfind("clothes/male_", 0) == 0 || g.name.rfind("clothes/female_", 0) == 0);
-  });
+  const bool suited =
+      std::any_of(person.garments.begin(), person.garments.end(), [](const body::Garment& g) {
+        return g.name.rfind("clothes/", 0) == 0 && g.name.find("shoes") == std::string::npos &&
+               (g.name.rfind("clothes/male_", 0) == 0 || g.name.rfind("clothes/female_", 0) == 0);
+      });
   const std::vector<Garment> garment =
       suited ? std::vector<Garment>(person.rest_vertices.size(), kSkin)
              : vertex_garments(person, body_data.rig(), p.outfit);
@@ -264,11 +264,13 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
     mesh.normals = body::vertex_normals(mesh.positions, tris);
     for (const Vector3f& r : g.rest_vertices) mesh.uvs.push_back(body_uv(r));
     for (const auto& t : tris)
-      mesh.triangles.emplace_back(static_cast<int>(t[0]), static_cast<int>(t[1]), static_cast<int>(t[2]));
+      mesh.triangles.emplace_back(static_cast<int>(t[0]), static_cast<int>(t[1]),
+                                  static_cast<int>(t[2]));
     const bool hair = g.name.rfind("hair/", 0) == 0 || g.name.rfind("eyebrows/", 0) == 0;
     const bool eyes = g.name.rfind("eyes/", 0) == 0;
     const bool shoes = g.name.find("shoes") != std::string::npos;
-    const bool suit = g.name.rfind("clothes/male_", 0) == 0 || g.name.rfind("clothes/female_", 0) == 0;
+    const bool suit =
+        g.name.rfind("clothes/male_", 0) == 0 || g.name.rfind("clothes/female_", 0) == 0;
     scene::Material material = eyes    ? p.outfit.eyes
                                : hair  ? p.outfit.hair
                                : shoes ? p.outfit.shoes
@@ -318,6 +320,8 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
   label.attributes["motion_id"] = clip != nullptr ? clip->motion.name : "rest_seated";
   label.attributes["motion_time"] = clip != nullptr ? std::round(p.time * 1e4) / 1e4 : 0.0;
   label.attributes["scale"] = std::round(static_cast<double>(p.scale) * 1e4) / 1e4;
+  // The MakeHuman clothes, hair and eyebrows worn, so train/test asset overlap is checkable.
+  label.attributes["assets"] = spec.proxies;
 }
 
 void add_structure(SceneAssembler& out, const FrameDraft& draft) {
@@ -332,10 +336,12 @@ void add_structure(SceneAssembler& out, const FrameDraft& draft) {
                      ++id, kSemanticStructure);
   };
   const auto about_x = [](float deg) {
-    return Eigen::Quaternionf(Eigen::AngleAxisf(deg * static_cast<float>(M_PI / 180), Vector3f::UnitX()));
+    return Eigen::Quaternionf(
+        Eigen::AngleAxisf(deg * static_cast<float>(M_PI / 180), Vector3f::UnitX()));
   };
   const auto about_y = [](float deg) {
-    return Eigen::Quaternionf(Eigen::AngleAxisf(deg * static_cast<float>(M_PI / 180), Vector3f::UnitY()));
+    return Eigen::Quaternionf(
+        Eigen::AngleAxisf(deg * static_cast<float>(M_PI / 180), Vector3f::UnitY()));
   };
   if (draft.environment == EnvironmentKind::kWall) {
     // Wide enough to fill a 50° view from 25 m away at 16:9.
@@ -347,9 +353,12 @@ void add_structure(SceneAssembler& out, const FrameDraft& draft) {
   plane("ceiling", hx, hz, draft.room.walls, Vector3f(0, h, 0), about_x(180));
   // Walls face the room's centre (a plane's front is +Y; +90° about X turns it to +Z).
   plane("wall_back", hx, h / 2, draft.room.walls, Vector3f(0, h / 2, -hz), about_x(90));
-  plane("wall_front", hx, h / 2, draft.room.walls, Vector3f(0, h / 2, hz), about_y(180) * about_x(90));
-  plane("wall_left", hz, h / 2, draft.room.walls, Vector3f(-hx, h / 2, 0), about_y(90) * about_x(90));
-  plane("wall_right", hz, h / 2, draft.room.walls, Vector3f(hx, h / 2, 0), about_y(-90) * about_x(90));
+  plane("wall_front", hx, h / 2, draft.room.walls, Vector3f(0, h / 2, hz),
+        about_y(180) * about_x(90));
+  plane("wall_left", hz, h / 2, draft.room.walls, Vector3f(-hx, h / 2, 0),
+        about_y(90) * about_x(90));
+  plane("wall_right", hz, h / 2, draft.room.walls, Vector3f(hx, h / 2, 0),
+        about_y(-90) * about_x(90));
 }
 
 scene::PrimitiveSpec object_spec(const std::string& shape) {
@@ -365,7 +374,8 @@ std::vector<KeypointAnchor> resolve_anchors(const eval::KeypointTemplate& keypoi
   for (const eval::KeypointInfo& k : keypoint_template.keypoints) {
     const std::string& a = k.anchor;
     const auto colon = a.find(':');
-    const std::string kind = a.substr(0, colon), what = colon == std::string::npos ? "" : a.substr(colon + 1);
+    const std::string kind = a.substr(0, colon),
+                      what = colon == std::string::npos ? "" : a.substr(colon + 1);
     KeypointAnchor anchor;
     if (kind == "raised_hip" && (what == "left" || what == "right")) {
       anchor.kind = KeypointAnchor::kRaisedHip;
@@ -408,7 +418,8 @@ BuiltFrame build_frame(const FrameDraft& draft, const body::BodyData& body_data,
     const bool model = o.furniture >= 0 && furniture != nullptr &&
                        static_cast<std::size_t>(o.furniture) < furniture->items().size();
     // In rooms objects stand on the floor (unit shapes span y in [-0.5, 0.5], models [0, h]).
-    if (draft.environment == EnvironmentKind::kRoom) o.position.y() = model ? 0.0f : 0.5f * o.scale.y();
+    if (draft.environment == EnvironmentKind::kRoom)
+      o.position.y() = model ? 0.0f : 0.5f * o.scale.y();
     const int mesh = model ? out.furniture_mesh(*furniture, static_cast<std::size_t>(o.furniture))
                            : out.primitive_mesh(object_spec(o.shape));
     scene::Material m = o.material;

@@ -3,7 +3,10 @@
 
 #include <algorithm>
 #include <numeric>
+#include <string>
+#include <vector>
 
+#include "core/error.h"
 #include "generate/randomizer.h"
 
 namespace wheelpose::generate {
@@ -25,10 +28,10 @@ scene::Material garment(RandomStream& rng, const std::string& name) {
   m.name = name;
   m.diffuse = Eigen::Vector3f::Ones();
   const double u = rng.uniform01();
-  m.texture.kind = u < 0.5    ? scene::TextureKind::kFabric
-                   : u < 0.7  ? scene::TextureKind::kStripes
-                   : u < 0.8  ? scene::TextureKind::kChecker
-                              : scene::TextureKind::kNoise;
+  m.texture.kind = u < 0.5   ? scene::TextureKind::kFabric
+                   : u < 0.7 ? scene::TextureKind::kStripes
+                   : u < 0.8 ? scene::TextureKind::kChecker
+                             : scene::TextureKind::kNoise;
   const Eigen::Vector3f base(static_cast<float>(rng.uniform(0.03, 0.9)),
                              static_cast<float>(rng.uniform(0.03, 0.9)),
                              static_cast<float>(rng.uniform(0.03, 0.9)));
@@ -40,6 +43,23 @@ scene::Material garment(RandomStream& rng, const std::string& name) {
   m.texture.scale = static_cast<float>(rng.uniform(4, 40));
   m.texture.seed = rng.next_u64();
   return m;
+}
+
+// `exclude_assets`: MakeHuman asset names ("clothes/…", "hair/…") never drawn, so a test set can
+// hold clothes and hair a training set never saw.
+std::vector<std::string> asset_list(const ConfigNode* c, const std::string& key) {
+  std::vector<std::string> names;
+  if (c == nullptr || !c->has(key)) return names;
+  const ConfigNode list = c->child(key);
+  if (!list.is_sequence()) list.fail("must be a list of asset names such as hair/bob01");
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const ConfigNode item = list.element(i);
+    const std::string name = item.as_string();
+    if (name.find('/') == std::string::npos) item.fail("'" + name + "' is not <folder>/<name>");
+    names.push_back(name);
+  }
+  std::sort(names.begin(), names.end());
+  return names;
 }
 
 class HumanGeneration final : public Randomizer {
@@ -55,7 +75,8 @@ class HumanGeneration final : public Randomizer {
         gender_(sampler_or(c, "gender", ScalarSampler::categorical({0.0, 1.0}, {1, 1}), 0, 1)),
         clothing_(number_or(c, "clothing_probability", 1.0, 0.0, 1.0)),
         hair_(number_or(c, "hair_probability", 0.85, 0.0, 1.0)),
-        hat_(number_or(c, "hat_probability", 0.1, 0.0, 1.0)) {
+        hat_(number_or(c, "hat_probability", 0.1, 0.0, 1.0)),
+        excluded_(asset_list(c, "exclude_assets")) {
     if (max_count_ < min_count_) c->fail("max_per_frame is below min_per_frame");
   }
 
@@ -98,11 +119,14 @@ class HumanGeneration final : public Randomizer {
       const bool clothed = member.bernoulli(clothing_);
       const bool has_hair = member.bernoulli(hair_);
       const bool has_hat = member.bernoulli(hat_);
-      const body::ProxyCatalog& kit = ctx.proxies;
+      const body::ProxyCatalog filtered =
+          excluded_.empty() ? body::ProxyCatalog{} : allowed(ctx.proxies);
+      const body::ProxyCatalog& kit = excluded_.empty() ? ctx.proxies : filtered;
       const auto& male = kit.male_suits;
       const auto& female = kit.female_suits;
-      const std::string suit = body::pick_proxy(
-          member, m.gender >= 0.5 ? (male.empty() ? female : male) : (female.empty() ? male : female));
+      const std::string suit =
+          body::pick_proxy(member, m.gender >= 0.5 ? (male.empty() ? female : male)
+                                                   : (female.empty() ? male : female));
       const std::string shoe = body::pick_proxy(member, kit.shoes);
       const std::string hat = body::pick_proxy(member, kit.hats);
       const std::string hair = body::pick_proxy(member, kit.hair);
@@ -131,25 +155,53 @@ class HumanGeneration final : public Randomizer {
                               : shade < 0.7  ? Eigen::Vector3f(0.25f, 0.14f, 0.07f)
                               : shade < 0.85 ? Eigen::Vector3f(0.65f, 0.5f, 0.3f)
                                              : Eigen::Vector3f(0.6f, 0.6f, 0.6f);
-      if (m.age_years > 60 && member.bernoulli(0.6)) p.outfit.hair.diffuse = Eigen::Vector3f(0.7f, 0.7f, 0.7f);
+      if (m.age_years > 60 && member.bernoulli(0.6))
+        p.outfit.hair.diffuse = Eigen::Vector3f(0.7f, 0.7f, 0.7f);
       p.outfit.hair.specular = 0.15f;
       f.people.push_back(std::move(p));
     }
   }
 
   nlohmann::ordered_json parameters() const override {
-    return {{"pool_size", pool_size_},       {"pool_refresh_frames", refresh_},
-            {"min_per_frame", min_count_},   {"max_per_frame", max_count_},
-            {"age", age_.describe()},        {"height", height_.describe()},
-            {"weight", weight_.describe()},  {"gender", gender_.describe()},
-            {"clothing_probability", clothing_}, {"hair_probability", hair_},
-            {"hat_probability", hat_}};
+    nlohmann::ordered_json out = {{"pool_size", pool_size_},
+                                  {"pool_refresh_frames", refresh_},
+                                  {"min_per_frame", min_count_},
+                                  {"max_per_frame", max_count_},
+                                  {"age", age_.describe()},
+                                  {"height", height_.describe()},
+                                  {"weight", weight_.describe()},
+                                  {"gender", gender_.describe()},
+                                  {"clothing_probability", clothing_},
+                                  {"hair_probability", hair_},
+                                  {"hat_probability", hat_}};
+    if (!excluded_.empty()) out["exclude_assets"] = excluded_;  // absent: earlier files unchanged
+    return out;
   }
 
  private:
+  // The installed proxies less the excluded ones (each of which must be installed); a copy
+  // per frame, a few dozen names.
+  body::ProxyCatalog allowed(const body::ProxyCatalog& kit) const {
+    body::ProxyCatalog out = kit;
+    for (const std::string& name : excluded_) {
+      bool found = false;
+      for (auto* list : {&out.male_suits, &out.female_suits, &out.shoes, &out.hats, &out.hair,
+                         &out.eyebrows, &out.eyes}) {
+        const auto at = std::find(list->begin(), list->end(), name);
+        if (at != list->end()) list->erase(at), found = true;
+      }
+      if (!found) {
+        throw Error("HumanGeneration.exclude_assets: '" + name +
+                    "' is not an installed MakeHuman asset");
+      }
+    }
+    return out;
+  }
+
   long long pool_size_, refresh_, min_count_, max_count_;
   ScalarSampler age_, height_, weight_, gender_;
   double clothing_, hair_, hat_;
+  std::vector<std::string> excluded_;
 };
 
 }  // namespace
@@ -168,7 +220,11 @@ extern const RandomizerEntry kHumanGenerationRandomizer = {
     "(the skin they cover is hidden), coloured with fabric, stripe, checker or noise patterns "
     "(the assets carry no textures); `hair_probability` = 0.85 one of the hair proxies (dark, "
     "brown, blond or grey; older people greyer), `hat_probability` = 0.1 a hat instead, and "
-    "eyebrows and low-poly eyes (an iris colour: the assets' textures are absent). Without proxies (or with `clothing_probability` 0) the body itself is painted "
+    "eyebrows and low-poly eyes (an iris colour: the assets' textures are absent). "
+    "`exclude_assets` "
+    "(a list such as [hair/bob01, clothes/male_worksuit01]) is never drawn: hold clothes and hair "
+    "out of a training set. Without proxies (or with `clothing_probability` 0) the body itself is "
+    "painted "
     "as top, bottom and shoes by nearest bone, with long or short sleeves (0.6) and trousers "
     "(0.8).",
     true, [](const ConfigNode* c) -> std::unique_ptr<Randomizer> {
