@@ -11,6 +11,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/html.h"
 #include "dataset/plot.h"
 
 namespace wheelpose::dataset {
@@ -459,28 +460,7 @@ std::vector<std::string> write_stats_report(const std::vector<DatasetStats>& dat
   for (const auto& d : data) report["datasets"].push_back(stats_to_json(d));
   write_file_atomic(out_dir / "stats.json", report.dump(1) + "\n");
 
-  auto esc = [](const std::string& text) {
-    std::string out;
-    for (char ch : text) {
-      switch (ch) {
-        case '<':
-          out += "&lt;";
-          break;
-        case '>':
-          out += "&gt;";
-          break;
-        case '&':
-          out += "&amp;";
-          break;
-        case '"':
-          out += "&quot;";
-          break;
-        default:
-          out += ch;
-      }
-    }
-    return out;
-  };
+  const auto esc = html_escape;
   std::string html =
       "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>Dataset "
       "statistics</title>\n<style>body{font-family:sans-serif;margin:2em}img{max-width:100%;"

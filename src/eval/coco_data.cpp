@@ -7,16 +7,12 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "eval/parse_error.h"
 
 namespace wheelpose::eval {
 namespace {
 
 using nlohmann::json;
-
-[[noreturn]] void fail(const std::string& source, const std::string& where,
-                       const std::string& what) {
-  throw Error(source + ": " + where + ": " + what);
-}
 
 std::string entry(const std::string& array, std::size_t index) {
   return array + "[" + std::to_string(index) + "]";

@@ -6,16 +6,12 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "eval/parse_error.h"
 
 namespace wheelpose::eval {
 namespace {
 
 using nlohmann::json;
-
-[[noreturn]] void fail(const std::string& source, const std::string& where,
-                       const std::string& what) {
-  throw Error(source + ": " + where + ": " + what);
-}
 
 int keypoint_by_name(const KeypointTemplate& t, const json& value, const std::string& source,
                      const std::string& where) {

@@ -49,7 +49,4 @@ nlohmann::ordered_json filter_ranking(const ReviewStore& store, double drop_perc
 std::vector<std::filesystem::path> write_report(const ReviewStore& store,
                                                 const std::filesystem::path& out_dir);
 
-// HTML-escapes & < > " '.
-std::string html_escape(const std::string& text);
-
 }  // namespace wheelpose::review
