@@ -1,9 +1,13 @@
-// End-to-end tests of `wheelpose train`: a stopped run resumed continues exactly, its weights
-// load in `predict`, and bad input is one line that leaves earlier checkpoints untouched.
+// End-to-end tests of `wheelpose train`: a stopped or killed run resumed continues exactly, its
+// weights load in `predict`, validation keeps the best weights, two processes train one run,
+// and bad input is one line that leaves earlier checkpoints untouched.
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <future>
@@ -66,6 +70,40 @@ TEST(TrainCli, StoppedRunResumesExactlyAndItsWeightsPredict) {
                     (dir / "results.json").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(json::parse(read_text(dir / "results.json")).is_array());
+}
+
+// kill -9 at growing moments, then a resume (or a fresh start when no checkpoint was written
+// yet), until a run completes: the weights and the log equal an uninterrupted run's.
+TEST(TrainCli, KilledRunsResumeExactly) {
+  if (!have_models()) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
+  const auto dir = fresh_temp_dir("train_kill");
+  const fs::path gt = wheelpose::testing::write_coco_sample_gt(dir, true);
+  auto run = [&](const fs::path& out) {
+    return "train --train " + gt.string() + " --out " + out.string() +
+           " --steps 8 --batch 2 --input-size 128 --checkpoint-every 1 --warmup 2 --threads 1 "
+           "--seed 5";
+  };
+  auto r = run_wheelpose(run(dir / "whole"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  int kills = 0;
+  for (double delay = 1.0;; delay += 0.25) {
+    const bool resume = fs::exists(dir / "killed" / "checkpoint.pt");
+    char timeout[64];
+    std::snprintf(timeout, sizeof timeout, "timeout -s KILL %.2f ", delay);
+    const std::string command = timeout + std::string(WHEELPOSE_BINARY) + " " +
+                                run(dir / "killed") + (resume ? " --resume" : "") +
+                                " > /dev/null 2>&1";
+    const int status = std::system(command.c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    if (WEXITSTATUS(status) == 0) break;
+    ASSERT_EQ(WEXITSTATUS(status), 137) << "the run failed instead of being killed";
+    ++kills;
+    ASSERT_LT(kills, 60);
+  }
+  EXPECT_GE(kills, 2);
+  EXPECT_EQ(read_text(dir / "whole" / "last.pt"), read_text(dir / "killed" / "last.pt"));
+  EXPECT_EQ(log_without_speed(dir / "whole" / "train_log.csv"),
+            log_without_speed(dir / "killed" / "train_log.csv"));
 }
 
 // keypoint AP from `wheelpose eval`'s metrics.json.

@@ -359,8 +359,10 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
     const bool checkpoint =
         report.step % o.checkpoint_every == 0 || report.step == o.steps || stop || validating;
     if (writer && checkpoint) {
-      save_checkpoint(model, optimizer, report.step, key, o.out_dir);
+      // The log first: killed between the two, the resume drops the rows past the older
+      // checkpoint and trains them again; the other order would lose rows.
       write_file_atomic(log_path, log);
+      save_checkpoint(model, optimizer, report.step, key, o.out_dir);
       if (validating) validate(report.step);
       draw_training_curves(o.out_dir);
     }
