@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -24,6 +25,32 @@ CliResult run_wheelpose(const std::string& args, const std::string& env) {
   const int status = ::pclose(pipe);
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
+}
+
+KilledRuns run_killed_until_done(const std::function<std::string()>& args, double first_delay,
+                                 double step) {
+  KilledRuns runs;
+  for (double delay = first_delay;; delay += step) {
+    char timeout[64];
+    std::snprintf(timeout, sizeof timeout, "timeout -s KILL %.2f ", delay);
+    const std::string command =
+        timeout + std::string(WHEELPOSE_BINARY) + " " + args() + " > /dev/null 2>&1";
+    const int status = std::system(command.c_str());
+    if (!WIFEXITED(status)) {
+      runs.failure = "the shell did not exit normally";
+      return runs;
+    }
+    if (WEXITSTATUS(status) == 0) return runs;
+    if (WEXITSTATUS(status) != 137) {
+      runs.failure =
+          "a run failed (exit " + std::to_string(WEXITSTATUS(status)) + ") instead of being killed";
+      return runs;
+    }
+    if (++runs.kills >= 60) {
+      runs.failure = "60 kills and no run completed";
+      return runs;
+    }
+  }
 }
 
 std::filesystem::path fresh_temp_dir(const std::string& name) {

@@ -2,6 +2,7 @@
 // Runs the built `wheelpose` binary for end-to-end tests and captures its output and exit code.
 
 #include <filesystem>
+#include <functional>
 #include <string>
 
 namespace wheelpose::testing {
@@ -14,6 +15,17 @@ struct CliResult {
 // `args` is appended to the binary path as shell words (quote paths yourself if needed);
 // `env`, shell words of VAR=value, is set for that run only.
 CliResult run_wheelpose(const std::string& args, const std::string& env = "");
+
+// Runs `wheelpose <args()>` again and again, each run killed with SIGKILL after a delay that
+// grows from `first_delay` by `step` seconds, until one exits 0. `args` is asked before every
+// run (it may add --resume once there is something to resume). `failure` is set when a run
+// exits otherwise than 0 or by the kill, or after 60 kills.
+struct KilledRuns {
+  int kills = 0;
+  std::string failure;
+};
+KilledRuns run_killed_until_done(const std::function<std::string()>& args, double first_delay,
+                                 double step);
 
 // A fresh empty directory under the system temp dir, unique per test.
 std::filesystem::path fresh_temp_dir(const std::string& name);

@@ -2,7 +2,6 @@
 // determinism across thread counts, shard merge, kill-and-resume, clip selection and errors.
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
@@ -26,6 +25,7 @@ namespace {
 using nlohmann::json;
 using wheelpose::testing::fresh_temp_dir;
 using wheelpose::testing::read_text;
+using wheelpose::testing::run_killed_until_done;
 using wheelpose::testing::run_wheelpose;
 namespace fs = std::filesystem;
 
@@ -283,21 +283,10 @@ TEST(GenerateCli, KilledAndResumedRunsWriteTheSameBytes) {
   const fs::path config = write_scenario(dir);
   ASSERT_EQ(run_wheelpose(generate_args(config, dir / "clean", 8)).exit_code, 0);
   // Kill -9 after growing delays until a run completes; each re-run resumes.
-  const std::string command = std::string(WHEELPOSE_BINARY) + " " +
-                              generate_args(config, dir / "killed", 8, "--resume") +
-                              " > /dev/null 2>&1";
-  int kills = 0;
-  for (double delay = 0.3;; delay += 0.15) {
-    char timeout[64];
-    std::snprintf(timeout, sizeof timeout, "timeout -s KILL %.2f ", delay);
-    const int status = std::system((timeout + command).c_str());
-    ASSERT_TRUE(WIFEXITED(status));
-    if (WEXITSTATUS(status) == 0) break;
-    ASSERT_EQ(WEXITSTATUS(status), 137) << "the run failed instead of being killed";
-    ++kills;
-    ASSERT_LT(kills, 60);
-  }
-  EXPECT_GE(kills, 2);
+  const auto runs = run_killed_until_done(
+      [&] { return generate_args(config, dir / "killed", 8, "--resume"); }, 0.3, 0.15);
+  ASSERT_EQ(runs.failure, "");
+  EXPECT_GE(runs.kills, 2);
   const auto clean = tree(dir / "clean"), killed = tree(dir / "killed");
   EXPECT_EQ(clean.size(), killed.size());
   for (const auto& [name, bytes] : clean)

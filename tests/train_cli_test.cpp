@@ -3,11 +3,8 @@
 // and bad input is one line that leaves earlier checkpoints untouched.
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <future>
@@ -85,22 +82,14 @@ TEST(TrainCli, KilledRunsResumeExactly) {
   };
   auto r = run_wheelpose(run(dir / "whole"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  int kills = 0;
-  for (double delay = 1.0;; delay += 0.25) {
-    const bool resume = fs::exists(dir / "killed" / "checkpoint.pt");
-    char timeout[64];
-    std::snprintf(timeout, sizeof timeout, "timeout -s KILL %.2f ", delay);
-    const std::string command = timeout + std::string(WHEELPOSE_BINARY) + " " +
-                                run(dir / "killed") + (resume ? " --resume" : "") +
-                                " > /dev/null 2>&1";
-    const int status = std::system(command.c_str());
-    ASSERT_TRUE(WIFEXITED(status));
-    if (WEXITSTATUS(status) == 0) break;
-    ASSERT_EQ(WEXITSTATUS(status), 137) << "the run failed instead of being killed";
-    ++kills;
-    ASSERT_LT(kills, 60);
-  }
-  EXPECT_GE(kills, 2);
+  const auto killed = wheelpose::testing::run_killed_until_done(
+      [&] {
+        const bool resume = fs::exists(dir / "killed" / "checkpoint.pt");
+        return run(dir / "killed") + (resume ? " --resume" : "");
+      },
+      1.0, 0.25);
+  ASSERT_EQ(killed.failure, "");
+  EXPECT_GE(killed.kills, 2);
   EXPECT_EQ(read_text(dir / "whole" / "last.pt"), read_text(dir / "killed" / "last.pt"));
   EXPECT_EQ(log_without_speed(dir / "whole" / "train_log.csv"),
             log_without_speed(dir / "killed" / "train_log.csv"));
