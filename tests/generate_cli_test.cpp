@@ -352,6 +352,39 @@ TEST(GenerateCli, ExcludedAssetsAreNeverWorn) {
   EXPECT_FALSE(fs::exists(dir / "bad" / "annotations.json"));
 }
 
+TEST(GenerateCli, PeopleWithoutWheelchairsStandTallerInTheSameScenes) {
+  const fs::path dir = fresh_temp_dir("generate_standing");
+  const fs::path seated = write_scenario(dir);
+  std::ofstream(dir / "standing.yaml")
+      << kSmallScenario
+      << "  Wheelchair: {manual_weight: 0, sport_weight: 0, power_weight: 0, none_weight: 1}\n";
+  for (const char* name : {"seated", "standing"}) {
+    const fs::path config = std::string(name) == "seated" ? seated : dir / "standing.yaml";
+    const auto r = run_wheelpose(generate_args(config, dir / name, 4));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  // Same seed: the same people, clips, placements and cameras; only the chairs are gone and
+  // the people stand, so their boxes are taller.
+  const json with = read_json(dir / "seated" / "annotations.json");
+  const json without = read_json(dir / "standing" / "annotations.json");
+  std::map<std::pair<int, int>, double> seated_height;
+  for (const json& a : with["annotations"]) {
+    EXPECT_NE(a["wheelchair_type"], "none");
+    seated_height[{a["image_id"].get<int>(), a["pool_slot"].get<int>()}] = a["bbox"][3].get<double>();
+  }
+  double taller = 0, compared = 0;
+  for (const json& a : without["annotations"]) {
+    EXPECT_EQ(a["wheelchair_type"], "none");
+    EXPECT_NE(a["motion_id"], "rest_standing");  // standing clips exist for the library
+    const auto it = seated_height.find({a["image_id"].get<int>(), a["pool_slot"].get<int>()});
+    if (it == seated_height.end()) continue;
+    ++compared;
+    if (a["bbox"][3].get<double>() > it->second) ++taller;
+  }
+  ASSERT_GE(compared, 5);
+  EXPECT_GE(taller / compared, 0.7) << taller << " of " << compared;
+}
+
 TEST(GenerateCli, BadInputGivesOneClearLine) {
   const fs::path dir = fresh_temp_dir("generate_errors");
   const fs::path bad = dir / "bad.yaml";

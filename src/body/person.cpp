@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <assimp/Exporter.hpp>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <set>
 
@@ -157,32 +158,60 @@ motion::PoseRotations rest_seated_pose() {
   return g;
 }
 
+motion::PoseRotations rest_standing_pose() {
+  using Q = Eigen::Quaterniond;
+  using V = Eigen::Vector3d;
+  motion::PoseRotations g;
+  g.fill(Q::Identity());
+  for (int side : {1, -1}) {
+    const bool left = side > 0;
+    const Q arm_down = Q::FromTwoVectors(V(side, 0, 0), V(0.15 * side, -0.99, 0).normalized());
+    for (int joint : left ? std::array{motion::kLeftShoulder, motion::kLeftElbow, motion::kLeftWrist}
+                          : std::array{motion::kRightShoulder, motion::kRightElbow,
+                                       motion::kRightWrist})
+      g[joint] = arm_down;
+  }
+  return g;
+}
+
 Person build_person(const BodyData& data, const PersonSpec& spec) {
   Person person;
   const Rig& rig = data.rig();
   const std::vector<Eigen::Vector3f> morphed = data.model().morph(spec.params);
   person.rest_bones = bone_positions(rig, morphed);
-  RigPose pose = retarget(rig, person.rest_bones, spec.pose ? *spec.pose : rest_seated_pose());
+  const bool standing = spec.wheelchair == WheelchairType::kNone;
+  RigPose pose = retarget(rig, person.rest_bones,
+                          spec.pose     ? *spec.pose
+                          : standing ? rest_standing_pose()
+                                     : rest_seated_pose());
   const std::vector<int>& body = data.body_vertices();
 
-  // The chair is fitted to the rest seated pose, so it does not change with the clip frame.
-  const RigPose seated = spec.pose ? retarget(rig, person.rest_bones, rest_seated_pose()) : pose;
-  const std::vector<Eigen::Vector3f> seated_vertices = skin(rig, person.rest_bones, seated, morphed);
-  const motion::Pose seated_joints = skeleton_joints(rig, pose_bones(rig, person.rest_bones, seated));
-  const SeatFit fit =
-      measure_seat_fit(seated_vertices, body, seated_joints[motion::kLeftHip].cast<float>(),
-                       seated_joints[motion::kRightHip].cast<float>(),
-                       seated_joints[motion::kLeftKnee].cast<float>(),
-                       seated_joints[motion::kLeftAnkle].cast<float>(),
-                       seated_joints[motion::kHeadBase].cast<float>());
-  RandomStream chair_stream(spec.seed, {"body", "wheelchair"});
-  person.chair = make_wheelchair(spec.wheelchair, fit, chair_stream);
-  // Pushing clips: the hands go to the rims (the chair is in the same, unshifted frame).
-  const bool on_rims = spec.hands_on_rims && reach_push_rims(rig, person.rest_bones, person.chair, pose) > 0;
-
+  std::vector<Eigen::Vector3f> posed;
+  bool on_rims = false;
+  if (standing) {
+    RandomStream no_chair(spec.seed, {"body", "wheelchair"});
+    person.chair = make_wheelchair(WheelchairType::kNone, SeatFit{}, no_chair);
+    posed = skin(rig, person.rest_bones, pose, morphed);
+  } else {
+    // The chair is fitted to the rest seated pose, so it does not change with the clip frame.
+    const RigPose seated = spec.pose ? retarget(rig, person.rest_bones, rest_seated_pose()) : pose;
+    std::vector<Eigen::Vector3f> seated_vertices = skin(rig, person.rest_bones, seated, morphed);
+    const motion::Pose seated_joints =
+        skeleton_joints(rig, pose_bones(rig, person.rest_bones, seated));
+    const SeatFit fit =
+        measure_seat_fit(seated_vertices, body, seated_joints[motion::kLeftHip].cast<float>(),
+                         seated_joints[motion::kRightHip].cast<float>(),
+                         seated_joints[motion::kLeftKnee].cast<float>(),
+                         seated_joints[motion::kLeftAnkle].cast<float>(),
+                         seated_joints[motion::kHeadBase].cast<float>());
+    RandomStream chair_stream(spec.seed, {"body", "wheelchair"});
+    person.chair = make_wheelchair(spec.wheelchair, fit, chair_stream);
+    // Pushing clips: the hands go to the rims (the chair is in the same, unshifted frame).
+    on_rims = spec.hands_on_rims && reach_push_rims(rig, person.rest_bones, person.chair, pose) > 0;
+    posed = spec.pose || on_rims ? skin(rig, person.rest_bones, pose, morphed)
+                                 : std::move(seated_vertices);
+  }
   person.posed_bones = pose_bones(rig, person.rest_bones, pose);
-  const std::vector<Eigen::Vector3f> posed =
-      spec.pose || on_rims ? skin(rig, person.rest_bones, pose, morphed) : seated_vertices;
   // Worn proxies and the base vertices they cover (hidden so skin does not poke through).
   std::vector<const Proxy*> worn;
   std::vector<bool> covered(morphed.size(), false);
@@ -305,8 +334,15 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
   person.raised_hips = {joint(motion::kLeftHip) + 0.09f * up,
                         joint(motion::kRightHip) + 0.09f * up};
 
-  // Floor at y = 0.
-  const Eigen::Vector3f shift(0, -person.chair.ground_y, 0);
+  // Floor at y = 0: under the chair, or under the lowest point of a standing person.
+  float floor_y = person.chair.ground_y;
+  if (standing) {
+    floor_y = std::numeric_limits<float>::max();
+    for (const auto& v : person.vertices) floor_y = std::min(floor_y, v.y());
+    for (const auto& g : person.garments)
+      for (const auto& v : g.vertices) floor_y = std::min(floor_y, v.y());
+  }
+  const Eigen::Vector3f shift(0, -floor_y, 0);
   // The aid is placed on the floor-level body, after the shift below.
   auto place_aid = [&] {
     if (spec.mobility_aid == MobilityAidType::kNone) return;

@@ -1,5 +1,6 @@
 #pragma once
-// A posed person seated in a fitted wheelchair: the body stage's product. BodyData is the shared,
+// A posed person seated in a fitted wheelchair (or, with WheelchairType::kNone, standing on the
+// floor without one): the body stage's product. BodyData is the shared,
 // read-only model (load once); build_person is the per-person work.
 
 #include <array>
@@ -50,7 +51,8 @@ struct PersonSpec {
   MacroParams params;
   WheelchairType wheelchair = WheelchairType::kManual;
   std::uint64_t seed = 0;
-  // Clip pose (global joint rotations); the rest seated pose when absent.
+  // Clip pose (global joint rotations); the rest seated (or standing) pose when absent. A
+  // standing person (kNone) needs an unseated clip's pose: its feet go to the floor.
   std::optional<motion::PoseRotations> pose;
   LimbCuts limbs{};  // limb difference, none by default
   MobilityAidType mobility_aid = MobilityAidType::kNone;
@@ -63,7 +65,7 @@ struct PersonSpec {
 
 // Random macro parameters and wheelchair type for `seed` (RandomStream(seed, {"body", ...})).
 PersonSpec sample_spec(std::uint64_t seed);
-// Applies "k=v" overrides (body parameters, wheelchair=manual|sport|power,
+// Applies "k=v" overrides (body parameters, wheelchair=manual|sport|power|cc_by|none,
 // left_leg/right_leg=none|below_knee|above_knee, left_arm/right_arm=none|below_elbow|above_elbow,
 // mobility_aid=none|cane|crutches|walker, wear=<folder>/<proxy> repeatable,
 // hands_on_rims=0|1); throws Error.
@@ -72,6 +74,8 @@ void apply_overrides(PersonSpec& spec, const std::vector<std::string>& overrides
 // Rest seated pose: thighs 35 degrees above horizontal, shins down, feet flat, upper arms down,
 // forearms forward over the lap.
 motion::PoseRotations rest_seated_pose();
+// Rest standing pose (WheelchairType::kNone without a clip): legs straight, arms down.
+motion::PoseRotations rest_standing_pose();
 
 // One worn proxy fitted to the posed body.
 struct Garment {

@@ -49,6 +49,35 @@ TEST(Person, SeatContactBelowOneCentimetreForEveryChairType) {
   }
 }
 
+TEST(Person, WithoutAWheelchairStandsOnTheFloor) {
+  for (std::uint64_t seed : {1u, 7u, 42u}) {
+    PersonSpec spec = sample_spec(seed);
+    spec.wheelchair = WheelchairType::kNone;
+    spec.proxies = {"clothes/shoes01"};
+    const Person standing = build_person(body_data(), spec);
+    EXPECT_TRUE(standing.chair.parts.empty());
+    EXPECT_TRUE(standing.chair.model.vertices.empty());
+    EXPECT_EQ(standing.chair.dimensions["type"], "none");
+    // The lowest point of body and shoes is on the floor; the ankles just above it.
+    float lowest = 1e9f;
+    for (const auto& v : standing.vertices) lowest = std::min(lowest, v.y());
+    for (const auto& g : standing.garments)
+      for (const auto& v : g.vertices) lowest = std::min(lowest, v.y());
+    EXPECT_NEAR(lowest, 0.0f, 1e-5f) << "seed " << seed;
+    for (int ankle : {15, 16}) {
+      EXPECT_GT(standing.coco[ankle].y(), 0.02f);
+      EXPECT_LT(standing.coco[ankle].y(), 0.2f);
+    }
+    // Straight legs: the hips are about a leg's length up, well above where they sit in a chair.
+    spec.wheelchair = WheelchairType::kManual;
+    const Person seated = build_person(body_data(), spec);
+    const double stature = standing.description["stature_m"].get<double>();
+    EXPECT_GT(standing.coco[11].y(), 0.4 * stature) << "seed " << seed;
+    EXPECT_GT(standing.coco[11].y(), seated.coco[11].y() + 0.1f) << "seed " << seed;
+    EXPECT_GT(standing.coco[0].y(), seated.coco[0].y() + 0.2f) << "seed " << seed;
+  }
+}
+
 TEST(Person, ChairFittedToBody) {
   PersonSpec narrow = sample_spec(3), wide = sample_spec(3);
   narrow.params.weight = 0.0;

@@ -102,6 +102,8 @@ const char* wheelchair_type_name(WheelchairType type) {
       return "power";
     case WheelchairType::kCcBy:
       return "cc_by";
+    case WheelchairType::kNone:
+      return "none";
   }
   return "manual";
 }
@@ -111,7 +113,8 @@ WheelchairType wheelchair_type_from_name(const std::string& name) {
   if (name == "sport") return WheelchairType::kSport;
   if (name == "power") return WheelchairType::kPower;
   if (name == "cc_by") return WheelchairType::kCcBy;
-  throw Error("wheelchair '" + name + "': unknown type (manual, sport, power, cc_by)");
+  if (name == "none") return WheelchairType::kNone;
+  throw Error("wheelchair '" + name + "': unknown type (manual, sport, power, cc_by, none)");
 }
 
 SeatFit measure_seat_fit(const std::vector<Eigen::Vector3f>& v, const std::vector<int>& body,
@@ -232,6 +235,12 @@ float seat_surface_height(const TriMesh& m) {
 }
 
 Wheelchair make_wheelchair(WheelchairType type, const SeatFit& fit, RandomStream& s) {
+  if (type == WheelchairType::kNone) {
+    Wheelchair none;
+    none.type = type;
+    none.dimensions = {{"type", "none"}};
+    return none;
+  }
   if (type == WheelchairType::kCcBy)
     return place_cc_by(make_wheelchair(WheelchairType::kManual, fit, s), fit);
   Wheelchair c;

@@ -15,7 +15,8 @@ namespace wheelpose::body {
 
 // kCcBy: the CC-BY "Wheel Chair" model (see load_cc_by_wheelchair), scaled so that its seat
 // carries the body; it has no primitives, so no push rims and no exact inside test.
-enum class WheelchairType { kManual, kSport, kPower, kCcBy };
+// kNone: no chair at all; the person stands on the floor (people without wheelchairs).
+enum class WheelchairType { kManual, kSport, kPower, kCcBy, kNone };
 const char* wheelchair_type_name(WheelchairType type);
 WheelchairType wheelchair_type_from_name(const std::string& name);  // throws Error
 
@@ -62,6 +63,7 @@ SeatFit measure_seat_fit(const std::vector<Eigen::Vector3f>& vertices,
                          const Eigen::Vector3f& right_hip, const Eigen::Vector3f& left_knee,
                          const Eigen::Vector3f& left_ankle, const Eigen::Vector3f& head);
 
+// kNone gives a chair with no parts and no model.
 Wheelchair make_wheelchair(WheelchairType type, const SeatFit& fit, RandomStream& stream);
 // A chair for nobody (scene object): fitted to an average adult.
 Wheelchair make_empty_wheelchair(WheelchairType type, RandomStream& stream);

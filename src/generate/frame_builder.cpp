@@ -190,11 +190,19 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
                 const std::vector<KeypointAnchor>& anchors, LabelPerson& label) {
   const PersonDraft& p = draft.people[k];
   body::PersonSpec spec = p.spec;
-  const motion::SeatedClip* clip =
-      p.clip >= 0 && static_cast<std::size_t>(p.clip) < clips.size() ? &clips[p.clip] : nullptr;
+  if (p.clip >= 0 && static_cast<std::size_t>(p.clip) >= clips.size()) {
+    throw Error("frame " + std::to_string(draft.index) + ": person " + std::to_string(k + 1) +
+                " plays clip " + std::to_string(p.clip) + " of " + std::to_string(clips.size()) +
+                (spec.wheelchair == body::WheelchairType::kNone
+                     ? " standing clips (people without a wheelchair need the built-in library, "
+                       "not --motions)"
+                     : " clips"));
+  }
+  const motion::SeatedClip* clip = p.clip >= 0 ? &clips[static_cast<std::size_t>(p.clip)] : nullptr;
   if (clip != nullptr) {
     spec.pose = clip_pose(*clip, p.time);
-    spec.hands_on_rims = pushes_the_rims(clip->motion.name);
+    spec.hands_on_rims = spec.wheelchair != body::WheelchairType::kNone &&
+                         pushes_the_rims(clip->motion.name);
   }
   const body::Person person = body::build_person(body_data, spec);
 
@@ -317,7 +325,10 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
   label.attributes["wheelchair_type"] = body::wheelchair_type_name(person.chair.type);
   label.attributes["limb_difference"] = std::move(limbs);
   label.attributes["mobility_aid"] = body::mobility_aid_name(person.aid.type);
-  label.attributes["motion_id"] = clip != nullptr ? clip->motion.name : "rest_seated";
+  label.attributes["motion_id"] =
+      clip != nullptr ? clip->motion.name
+      : spec.wheelchair == body::WheelchairType::kNone ? "rest_standing"
+                                                        : "rest_seated";
   label.attributes["motion_time"] = clip != nullptr ? std::round(p.time * 1e4) / 1e4 : 0.0;
   label.attributes["scale"] = std::round(static_cast<double>(p.scale) * 1e4) / 1e4;
   // The MakeHuman clothes, hair and eyebrows worn, so train/test asset overlap is checkable.
@@ -398,6 +409,7 @@ std::vector<KeypointAnchor> resolve_anchors(const eval::KeypointTemplate& keypoi
 
 BuiltFrame build_frame(const FrameDraft& draft, const body::BodyData& body_data,
                        const std::vector<motion::SeatedClip>& clips,
+                       const std::vector<motion::SeatedClip>& standing_clips,
                        const std::vector<KeypointAnchor>& anchors,
                        const FurnitureCatalog* furniture) {
   if (draft.people.size() > static_cast<std::size_t>(kMaxPeoplePerFrame))
@@ -440,7 +452,10 @@ BuiltFrame build_frame(const FrameDraft& draft, const body::BodyData& body_data,
   }
   built.people.resize(draft.people.size());
   for (std::size_t k = 0; k < draft.people.size(); ++k)
-    add_person(out, draft, k, body_data, clips, anchors, built.people[k]);
+    add_person(out, draft, k, body_data,
+               draft.people[k].spec.wheelchair == body::WheelchairType::kNone ? standing_clips
+                                                                               : clips,
+               anchors, built.people[k]);
   return built;
 }
 

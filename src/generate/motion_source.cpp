@@ -17,10 +17,11 @@
 namespace wheelpose::generate {
 namespace {
 
-std::vector<motion::SeatedClip> library_seated_clips() {
+std::vector<motion::SeatedClip> library_clips(bool seated) {
   const auto motions = motion::library_motions();
   std::vector<motion::SeatedClip> clips(motions.size());
-  const motion::MotionOptions options;  // the paper's pipeline, seed 0 as `motion library`
+  motion::MotionOptions options;  // the paper's pipeline, seed 0 as `motion library`
+  options.seat = seated;
   tbb::parallel_for(std::size_t{0}, motions.size(), [&](std::size_t i) {
     clips[i] = motion::run_motion_pipeline(motion::library_clip(motions[i].id, options.seed), options);
   });
@@ -72,11 +73,9 @@ std::vector<std::string> kept_names(const std::filesystem::path& ranking) {
   return names;
 }
 
-}  // namespace
-
-std::vector<motion::SeatedClip> load_motion_clips(const MotionSource& source) {
-  std::vector<motion::SeatedClip> clips =
-      source.folder.empty() ? library_seated_clips() : folder_clips(source.folder);
+// The clips the ranking keeps (all without one), in their order.
+std::vector<motion::SeatedClip> kept_clips(const MotionSource& source,
+                                           std::vector<motion::SeatedClip> clips) {
   if (source.clips_from.empty()) return clips;
   const std::vector<std::string> names = kept_names(source.clips_from);
   std::map<std::string, std::size_t> by_name;
@@ -96,6 +95,18 @@ std::vector<motion::SeatedClip> load_motion_clips(const MotionSource& source) {
   std::vector<motion::SeatedClip> out;
   for (std::size_t i : keep) out.push_back(std::move(clips[i]));
   return out;
+}
+
+}  // namespace
+
+std::vector<motion::SeatedClip> load_motion_clips(const MotionSource& source) {
+  return kept_clips(source,
+                    source.folder.empty() ? library_clips(true) : folder_clips(source.folder));
+}
+
+std::vector<motion::SeatedClip> load_standing_clips(const MotionSource& source) {
+  if (!source.folder.empty()) return {};
+  return kept_clips(source, library_clips(false));
 }
 
 }  // namespace wheelpose::generate

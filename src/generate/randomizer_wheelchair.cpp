@@ -11,13 +11,15 @@ class WheelchairRandomizer final : public Randomizer {
       : manual_(number_or(c, "manual_weight", 0.6, 0, 1e6)),
         sport_(number_or(c, "sport_weight", 0.15, 0, 1e6)),
         power_(number_or(c, "power_weight", 0.25, 0, 1e6)),
-        cc_by_(number_or(c, "cc_by_weight", 0.0, 0, 1e6)) {
-    if (manual_ + sport_ + power_ + cc_by_ <= 0) c->fail("the weights add up to 0");
+        cc_by_(number_or(c, "cc_by_weight", 0.0, 0, 1e6)),
+        none_(number_or(c, "none_weight", 0.0, 0, 1e6)) {
+    if (manual_ + sport_ + power_ + cc_by_ + none_ <= 0) c->fail("the weights add up to 0");
     type_ = ScalarSampler::categorical({static_cast<double>(body::WheelchairType::kManual),
                                         static_cast<double>(body::WheelchairType::kSport),
                                         static_cast<double>(body::WheelchairType::kPower),
-                                        static_cast<double>(body::WheelchairType::kCcBy)},
-                                       {manual_, sport_, power_, cc_by_});
+                                        static_cast<double>(body::WheelchairType::kCcBy),
+                                        static_cast<double>(body::WheelchairType::kNone)},
+                                       {manual_, sport_, power_, cc_by_, none_});
   }
 
   void apply(FrameDraft& f, RandomStream&, const RandomizerContext&) const override {
@@ -42,11 +44,12 @@ class WheelchairRandomizer final : public Randomizer {
     return {{"manual_weight", manual_},
             {"sport_weight", sport_},
             {"power_weight", power_},
-            {"cc_by_weight", cc_by_}};
+            {"cc_by_weight", cc_by_},
+            {"none_weight", none_}};
   }
 
  private:
-  double manual_, sport_, power_, cc_by_;
+  double manual_, sport_, power_, cc_by_, none_;
   ScalarSampler type_;  // over the WheelchairType values, by the weights
 };
 
@@ -57,7 +60,9 @@ extern const RandomizerEntry kWheelchairRandomizer = {
     "Chooses each person's wheelchair type with weights `manual_weight` 0.6, `sport_weight` "
     "0.15, `power_weight` 0.25 and `cc_by_weight` 0 (the CC-BY \"Wheel Chair\" model by bgamage "
     "from `sweethome3d-furniture`, scaled under the fitted seat; opt-in because anything "
-    "published with it must carry its credit), and its colours (frame U(0.05, 0.9), upholstery "
+    "published with it must carry its credit) and `none_weight` 0 (no wheelchair: the person "
+    "stands on the floor and plays the clip as recorded, before seating; for test sets of "
+    "people without wheelchairs), and its colours (frame U(0.05, 0.9), upholstery "
     "U(0.02, 0.4), "
     "tyres dark grey, trim U(0.3, 0.8) per channel). Dimensions are fitted to the body by the "
     "body stage. Fixed per pool member. New in WheelPose (the authors' chair was a cube "
