@@ -8,30 +8,53 @@
 # OUT/report.md and OUT/report.html. Every step resumes: re-running after an interruption redoes
 # only what is missing.
 #
-# usage: scripts/boost.sh [--quick] [OUT (default out/boost)]
+# Both models are also scored on people without wheelchairs (a generated set of standing people,
+# configs/boost-standing.yaml, and, with --real, the user's own COCO person keypoints), to show
+# what fine-tuning costs on ordinary people.
+#
+# usage: scripts/boost.sh [--quick] [--ablate] [--real COCO.json] [OUT (default out/boost)]
 #   --quick: a few frames and steps (a smoke test of the whole chain, minutes on 2 cores)
-# Environment overrides: TRAIN_FRAMES, VAL_FRAMES, TEST_FRAMES, STEPS, BATCH, LR, FREEZE,
-# VAL_EVERY, EXTRA_TRAIN_ARGS.
+#   --ablate: also the training-set size ablation (scripts/ablate.sh; hours at full size)
+#   --real COCO.json: real people's keypoints (images in images/ beside it, or beside it)
+# Environment overrides: TRAIN_FRAMES, VAL_FRAMES, TEST_FRAMES, STANDING_FRAMES, STEPS, BATCH, LR,
+# FREEZE, VAL_EVERY, EXTRA_TRAIN_ARGS, ABLATION_SIZES.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 wp="$root/build/release/wheelpose"
 quick=0
+ablate=0
+real=""
 out=out/boost
-for arg in "$@"; do
-  case "$arg" in
+while (($#)); do
+  case "$1" in
     --quick) quick=1 ;;
-    -h|--help) sed -n '2,10p' "$0"; exit 0 ;;
-    -*) echo "boost: unknown option $arg (see --help)" >&2; exit 2 ;;
-    *) out="$arg" ;;
+    --ablate) ablate=1 ;;
+    --real)
+      [[ $# -ge 2 ]] || { echo "boost: --real needs a COCO file" >&2; exit 2; }
+      real=$2
+      shift
+      ;;
+    -h|--help) sed -n '2,21p' "$0"; exit 0 ;;
+    -*) echo "boost: unknown option $1 (see --help)" >&2; exit 2 ;;
+    *) out="$1" ;;
   esac
+  shift
 done
+if [[ -n $real ]]; then
+  [[ -f $real ]] || { echo "boost: --real $real: no such file" >&2; exit 2; }
+  real_images="$(dirname "$real")/images"
+  [[ -d $real_images ]] || real_images="$(dirname "$real")"
+fi
 [[ -x "$wp" ]] || { echo "boost: $wp is missing: cmake --build --preset release" >&2; exit 1; }
 
 if ((quick)); then
   train_frames=${TRAIN_FRAMES:-24} val_frames=${VAL_FRAMES:-4} test_frames=${TEST_FRAMES:-8}
+  standing_frames=${STANDING_FRAMES:-4}
   steps=${STEPS:-16} batch=${BATCH:-4} val_every=${VAL_EVERY:-8} size_args="--input-size 128"
+  export ABLATION_SIZES=${ABLATION_SIZES:-8 16}
 else
   train_frames=${TRAIN_FRAMES:-5000} val_frames=${VAL_FRAMES:-200} test_frames=${TEST_FRAMES:-500}
+  standing_frames=${STANDING_FRAMES:-300}
   steps=${STEPS:-3000} batch=${BATCH:-16} val_every=${VAL_EVERY:-250} size_args=""
 fi
 lr=${LR:-1e-4}
@@ -48,11 +71,16 @@ timed() {  # timed NAME command...: runs it, appends "NAME seconds" to OUT/times
 }
 
 # Seeds differ between the sets, so no frame, scene or person draw is shared; clips, the sport
-# wheelchair and forearm crutches are held out of training by content.
-for set in train val test; do
+# wheelchair and forearm crutches are held out of training by content. The standing people play
+# the held-out clips too.
+for set in train val test standing; do
   frames=$train_frames seed=101 config=(--config "$root/configs/boost-train.yaml") clips=train
   if [[ $set == val ]]; then frames=$val_frames seed=303; fi
   if [[ $set == test ]]; then frames=$test_frames seed=202 config=() clips=test; fi
+  if [[ $set == standing ]]; then
+    frames=$standing_frames seed=404 config=(--config "$root/configs/boost-standing.yaml")
+    clips=test
+  fi
   if [[ ! -f "$out/$set/annotations.json" ]]; then
     log "generating the $set set ($frames frames, seed $seed)"
     resume=""
@@ -109,6 +137,20 @@ fi
 log "scoring the fine-tuned model (best.pt: step $(jq .step "$out/run/best.json"))"
 timed predict_finetuned "$wp" -q predict --model "$out/run/best.pt" --coco "$test_gt" \
   --images "$test_images" --out "$out/finetuned.json"
+# People without wheelchairs: the generated standing people and, with --real, the user's own.
+score_both() {  # score_both NAME GT IMAGES: OUT/NAME-{baseline,finetuned}.json and OUT/NAME-eval
+  [[ -f "$out/$1-baseline.json" ]] || timed "predict_baseline_$1" "$wp" -q predict --coco "$2" \
+    --images "$3" --out "$out/$1-baseline.json"
+  timed "predict_finetuned_$1" "$wp" -q predict --model "$out/run/best.pt" --coco "$2" \
+    --images "$3" --out "$out/$1-finetuned.json"
+  "$wp" -q eval --gt "$2" --dt "$out/$1-finetuned.json" --baseline "$out/$1-baseline.json" \
+    --type both --out "$out/$1-eval" >/dev/null
+}
+log "scoring both models on people without wheelchairs"
+score_both standing "$out/standing/annotations.json" "$out/standing/images"
+if [[ -n $real ]]; then score_both real "$real" "$real_images"; fi
+if ((ablate)); then "$root/scripts/ablate.sh" "$out"; fi
+
 # The same test images before (red) and after (green) fine-tuning, over white GT: evenly spread
 # ones, and those where the fine-tuned model does worst.
 "$wp" -q eval --gt "$test_gt" --dt "$out/finetuned.json" --baseline "$out/baseline.json" \
@@ -117,7 +159,7 @@ timed predict_finetuned "$wp" -q predict --model "$out/run/best.pt" --coco "$tes
   --type both --out "$out/eval-worst" --viz 4 --viz-pick worst --images "$test_images" >/dev/null
 
 # The paper's Table 4 layout: baseline and fine-tuned side by side, AP in points.
-table4() {
+table4() {  # table4 [EVAL_DIR (default OUT/eval)]
   jq -r '
     def p(x): if x == null or x < 0 then "n/a" else (x * 1000 | round / 10 | tostring) end;
     def row(name; r): "| \(name) | \(p(r.keypoints.stats.AP)) | \(p(r.keypoints.stats.AP50)) | \(p(r.keypoints.stats.AP75)) | \(p(r.keypoints.stats.APm)) | \(p(r.keypoints.stats.APl)) | \(p(r.keypoints.stats.AR)) | \(p(r.bbox.stats.AP)) | \(p(r.bbox.stats.AP50)) | \(p(r.bbox.stats.APm)) | \(p(r.bbox.stats.APl)) |";
@@ -126,8 +168,9 @@ table4() {
     row("MoveNet MultiPose (pretrained)"; .baseline),
     row("fine-tuned on generated data"; .results),
     "| change (points) | \((.results.keypoints.stats.AP - .baseline.keypoints.stats.AP) * 1000 | round / 10) | \((.results.keypoints.stats.AP50 - .baseline.keypoints.stats.AP50) * 1000 | round / 10) | \((.results.keypoints.stats.AP75 - .baseline.keypoints.stats.AP75) * 1000 | round / 10) | | | \((.results.keypoints.stats.AR - .baseline.keypoints.stats.AR) * 1000 | round / 10) | \((.results.bbox.stats.AP - .baseline.bbox.stats.AP) * 1000 | round / 10) | \((.results.bbox.stats.AP50 - .baseline.bbox.stats.AP50) * 1000 | round / 10) | | |"
-  ' "$out/eval/metrics.json"
+  ' "${1:-$out/eval}/metrics.json"
 }
+count() { jq "[.$2[]] | length" "$1"; }
 
 first_loss=$(awk -F, 'NR==2 {print $3}' "$out/run/train_log.csv")
 last_loss=$(awk -F, 'NR>1 {n++; if (n > 0) v[n]=$3} END {s=0; k=0; for (i=n; i>n-10 && i>0; i--) {s+=v[i]; k++} print s/k}' "$out/run/train_log.csv")
@@ -147,6 +190,25 @@ last_loss=$(awk -F, 'NR>1 {n++; if (n > 0) v[n]=$3} END {s=0; k=0; for (i=n; i>n
   echo
   cat "$out/eval/comparison.md"
   echo
+  echo "## People without wheelchairs"
+  echo
+  echo "What fine-tuning costs on ordinary people: $standing_frames generated frames of"
+  echo "$(count "$out/standing/annotations.json" annotations) standing people (seed 404,"
+  echo "configs/boost-standing.yaml: no wheelchair, aid or limb difference; the held-out clips,"
+  echo "their upper body on straight legs)."
+  echo
+  table4 "$out/standing-eval"
+  if [[ -n $real ]]; then
+    echo
+    echo "Real people: $(count "$real" images) images, $(count "$real" annotations) people of $real."
+    echo
+    table4 "$out/real-eval"
+  fi
+  echo
+  if [[ -f "$out/ablation.md" ]] && ((ablate)); then
+    cat "$out/ablation.md"
+    echo
+  fi
   echo "## Training"
   echo
   echo "Loss at step 1: $first_loss; mean of the last 10 steps: $last_loss (run/train_log.csv)."

@@ -375,7 +375,7 @@ TEST(GenerateCli, PeopleWithoutWheelchairsStandTallerInTheSameScenes) {
   double taller = 0, compared = 0;
   for (const json& a : without["annotations"]) {
     EXPECT_EQ(a["wheelchair_type"], "none");
-    EXPECT_NE(a["motion_id"], "rest_standing");  // standing clips exist for the library
+    EXPECT_NE(a["motion_id"], "rest_standing");  // the clips' upper body on straight legs
     const auto it = seated_height.find({a["image_id"].get<int>(), a["pool_slot"].get<int>()});
     if (it == seated_height.end()) continue;
     ++compared;

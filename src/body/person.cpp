@@ -174,6 +174,18 @@ motion::PoseRotations rest_standing_pose() {
   return g;
 }
 
+motion::PoseRotations with_standing_legs(motion::PoseRotations pose) {
+  // The pelvis's heading (its forward +Z turned about the vertical): the legs keep facing where
+  // the body faces, straight down, feet flat.
+  const Eigen::Vector3d forward = pose[motion::kPelvis] * Eigen::Vector3d::UnitZ();
+  const double heading = std::atan2(forward.x(), forward.z());
+  const Eigen::Quaterniond legs(Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitY()));
+  for (int joint : {motion::kLeftHip, motion::kRightHip, motion::kLeftKnee, motion::kRightKnee,
+                    motion::kLeftAnkle, motion::kRightAnkle, motion::kLeftToe, motion::kRightToe})
+    pose[joint] = legs;
+  return pose;
+}
+
 Person build_person(const BodyData& data, const PersonSpec& spec) {
   Person person;
   const Rig& rig = data.rig();
@@ -181,9 +193,9 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
   person.rest_bones = bone_positions(rig, morphed);
   const bool standing = spec.wheelchair == WheelchairType::kNone;
   RigPose pose = retarget(rig, person.rest_bones,
-                          spec.pose     ? *spec.pose
-                          : standing ? rest_standing_pose()
-                                     : rest_seated_pose());
+                          standing    ? with_standing_legs(spec.pose ? *spec.pose : rest_standing_pose())
+                          : spec.pose ? *spec.pose
+                                      : rest_seated_pose());
   const std::vector<int>& body = data.body_vertices();
 
   std::vector<Eigen::Vector3f> posed;

@@ -52,7 +52,7 @@ struct PersonSpec {
   WheelchairType wheelchair = WheelchairType::kManual;
   std::uint64_t seed = 0;
   // Clip pose (global joint rotations); the rest seated (or standing) pose when absent. A
-  // standing person (kNone) needs an unseated clip's pose: its feet go to the floor.
+  // standing person (kNone) takes the clip's upper body on straight legs (with_standing_legs).
   std::optional<motion::PoseRotations> pose;
   LimbCuts limbs{};  // limb difference, none by default
   MobilityAidType mobility_aid = MobilityAidType::kNone;
@@ -76,6 +76,9 @@ void apply_overrides(PersonSpec& spec, const std::vector<std::string>& overrides
 motion::PoseRotations rest_seated_pose();
 // Rest standing pose (WheelchairType::kNone without a clip): legs straight, arms down.
 motion::PoseRotations rest_standing_pose();
+// `pose` with straight legs under the pelvis, feet flat and facing the pelvis's heading: how a
+// person without a wheelchair plays a seated clip (the library's clips are authored seated).
+motion::PoseRotations with_standing_legs(motion::PoseRotations pose);
 
 // One worn proxy fitted to the posed body.
 struct Garment {

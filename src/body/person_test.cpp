@@ -54,6 +54,13 @@ TEST(Person, WithoutAWheelchairStandsOnTheFloor) {
     PersonSpec spec = sample_spec(seed);
     spec.wheelchair = WheelchairType::kNone;
     spec.proxies = {"clothes/shoes01"};
+    // A seated clip's pose, turned 40 degrees: the legs straighten and turn with the pelvis.
+    if (seed == 7) {
+      motion::PoseRotations pose = rest_seated_pose();
+      const Eigen::Quaterniond turn(Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitY()));
+      for (auto& q : pose) q = turn * q;
+      spec.pose = pose;
+    }
     const Person standing = build_person(body_data(), spec);
     EXPECT_TRUE(standing.chair.parts.empty());
     EXPECT_TRUE(standing.chair.model.vertices.empty());
@@ -67,6 +74,9 @@ TEST(Person, WithoutAWheelchairStandsOnTheFloor) {
     for (int ankle : {15, 16}) {
       EXPECT_GT(standing.coco[ankle].y(), 0.02f);
       EXPECT_LT(standing.coco[ankle].y(), 0.2f);
+      // Straight down from the knee.
+      const Eigen::Vector3f shin = standing.coco[ankle - 2] - standing.coco[ankle];
+      EXPECT_GT(shin.normalized().y(), 0.98f) << "seed " << seed;
     }
     // Straight legs: the hips are about a leg's length up, well above where they sit in a chair.
     spec.wheelchair = WheelchairType::kManual;

@@ -190,15 +190,8 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
                 const std::vector<KeypointAnchor>& anchors, LabelPerson& label) {
   const PersonDraft& p = draft.people[k];
   body::PersonSpec spec = p.spec;
-  if (p.clip >= 0 && static_cast<std::size_t>(p.clip) >= clips.size()) {
-    throw Error("frame " + std::to_string(draft.index) + ": person " + std::to_string(k + 1) +
-                " plays clip " + std::to_string(p.clip) + " of " + std::to_string(clips.size()) +
-                (spec.wheelchair == body::WheelchairType::kNone
-                     ? " standing clips (people without a wheelchair need the built-in library, "
-                       "not --motions)"
-                     : " clips"));
-  }
-  const motion::SeatedClip* clip = p.clip >= 0 ? &clips[static_cast<std::size_t>(p.clip)] : nullptr;
+  const motion::SeatedClip* clip =
+      p.clip >= 0 && static_cast<std::size_t>(p.clip) < clips.size() ? &clips[p.clip] : nullptr;
   if (clip != nullptr) {
     spec.pose = clip_pose(*clip, p.time);
     spec.hands_on_rims = spec.wheelchair != body::WheelchairType::kNone &&
@@ -409,7 +402,6 @@ std::vector<KeypointAnchor> resolve_anchors(const eval::KeypointTemplate& keypoi
 
 BuiltFrame build_frame(const FrameDraft& draft, const body::BodyData& body_data,
                        const std::vector<motion::SeatedClip>& clips,
-                       const std::vector<motion::SeatedClip>& standing_clips,
                        const std::vector<KeypointAnchor>& anchors,
                        const FurnitureCatalog* furniture) {
   if (draft.people.size() > static_cast<std::size_t>(kMaxPeoplePerFrame))
@@ -452,10 +444,7 @@ BuiltFrame build_frame(const FrameDraft& draft, const body::BodyData& body_data,
   }
   built.people.resize(draft.people.size());
   for (std::size_t k = 0; k < draft.people.size(); ++k)
-    add_person(out, draft, k, body_data,
-               draft.people[k].spec.wheelchair == body::WheelchairType::kNone ? standing_clips
-                                                                               : clips,
-               anchors, built.people[k]);
+    add_person(out, draft, k, body_data, clips, anchors, built.people[k]);
   return built;
 }
 

@@ -57,11 +57,8 @@ struct KeypointAnchor {
 };
 std::vector<KeypointAnchor> resolve_anchors(const eval::KeypointTemplate& keypoint_template);
 
-// `clips` are the seated clips people play; people without a wheelchair (WheelchairType::kNone)
-// play the same clip index in `standing_clips` (load_standing_clips), which must then hold it.
 BuiltFrame build_frame(const FrameDraft& draft, const body::BodyData& body_data,
                        const std::vector<motion::SeatedClip>& clips,
-                       const std::vector<motion::SeatedClip>& standing_clips,
                        const std::vector<KeypointAnchor>& anchors,
                        const FurnitureCatalog* furniture = nullptr);
 

@@ -17,11 +17,10 @@
 namespace wheelpose::generate {
 namespace {
 
-std::vector<motion::SeatedClip> library_clips(bool seated) {
+std::vector<motion::SeatedClip> library_seated_clips() {
   const auto motions = motion::library_motions();
   std::vector<motion::SeatedClip> clips(motions.size());
-  motion::MotionOptions options;  // the paper's pipeline, seed 0 as `motion library`
-  options.seat = seated;
+  const motion::MotionOptions options;  // the paper's pipeline, seed 0 as `motion library`
   tbb::parallel_for(std::size_t{0}, motions.size(), [&](std::size_t i) {
     clips[i] = motion::run_motion_pipeline(motion::library_clip(motions[i].id, options.seed), options);
   });
@@ -73,9 +72,11 @@ std::vector<std::string> kept_names(const std::filesystem::path& ranking) {
   return names;
 }
 
-// The clips the ranking keeps (all without one), in their order.
-std::vector<motion::SeatedClip> kept_clips(const MotionSource& source,
-                                           std::vector<motion::SeatedClip> clips) {
+}  // namespace
+
+std::vector<motion::SeatedClip> load_motion_clips(const MotionSource& source) {
+  std::vector<motion::SeatedClip> clips =
+      source.folder.empty() ? library_seated_clips() : folder_clips(source.folder);
   if (source.clips_from.empty()) return clips;
   const std::vector<std::string> names = kept_names(source.clips_from);
   std::map<std::string, std::size_t> by_name;
@@ -95,18 +96,6 @@ std::vector<motion::SeatedClip> kept_clips(const MotionSource& source,
   std::vector<motion::SeatedClip> out;
   for (std::size_t i : keep) out.push_back(std::move(clips[i]));
   return out;
-}
-
-}  // namespace
-
-std::vector<motion::SeatedClip> load_motion_clips(const MotionSource& source) {
-  return kept_clips(source,
-                    source.folder.empty() ? library_clips(true) : folder_clips(source.folder));
-}
-
-std::vector<motion::SeatedClip> load_standing_clips(const MotionSource& source) {
-  if (!source.folder.empty()) return {};
-  return kept_clips(source, library_clips(false));
 }
 
 }  // namespace wheelpose::generate

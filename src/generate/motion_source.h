@@ -18,8 +18,5 @@ struct MotionSource {
 // Clips in a stable order (library order, or file name order). Throws Error naming the file for
 // unreadable clips, a ranking that names a clip the source lacks, or an empty selection.
 std::vector<motion::SeatedClip> load_motion_clips(const MotionSource& source);
-// The same clips before seating (the pipeline without its seating step), for people without a
-// wheelchair; in the same order. Empty for a `--motions` folder, whose clips are seated already.
-std::vector<motion::SeatedClip> load_standing_clips(const MotionSource& source);
 
 }  // namespace wheelpose::generate

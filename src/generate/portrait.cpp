@@ -58,7 +58,7 @@ cv::Mat render_portrait(const body::BodyData& data, const body::PersonSpec& spec
   draft.sky = sky;
   static const std::vector<KeypointAnchor> anchors =
       resolve_anchors(eval::load_keypoint_template("coco17"));
-  const BuiltFrame built = build_frame(draft, data, {}, {}, anchors);
+  const BuiltFrame built = build_frame(draft, data, {}, anchors);
   render::Renderer renderer(built.scene);
   render::RenderOptions options;
   options.spp = spp;

@@ -61,7 +61,7 @@ extern const RandomizerEntry kWheelchairRandomizer = {
     "0.15, `power_weight` 0.25 and `cc_by_weight` 0 (the CC-BY \"Wheel Chair\" model by bgamage "
     "from `sweethome3d-furniture`, scaled under the fitted seat; opt-in because anything "
     "published with it must carry its credit) and `none_weight` 0 (no wheelchair: the person "
-    "stands on the floor and plays the clip as recorded, before seating; for test sets of "
+    "stands on the floor, playing the clip's upper body on straight legs; for test sets of "
     "people without wheelchairs), and its colours (frame U(0.05, 0.9), upholstery "
     "U(0.02, 0.4), "
     "tyres dark grey, trim U(0.3, 0.8) per channel). Dimensions are fitted to the body by the "

@@ -135,7 +135,6 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
     threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
 
   const std::vector<motion::SeatedClip> clips = load_motion_clips(options.motions);
-  const std::vector<motion::SeatedClip> standing_clips = load_standing_clips(options.motions);
   const std::filesystem::path assets = body::locate_assets(options.assets);
   const body::BodyData body_data(assets);
   const FurnitureCatalog furniture(FurnitureCatalog::default_archive());
@@ -193,7 +192,7 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
   tbb::parallel_for(std::size_t{0}, pending.size(), std::size_t{1}, [&](std::size_t i) {
     const std::int64_t frame = pending[i];
     const FrameDraft draft = draft_frame(scenario, options.seed, frame, context);
-    const BuiltFrame built = build_frame(draft, body_data, clips, standing_clips, scenario.anchors, &furniture);
+    const BuiltFrame built = build_frame(draft, body_data, clips, scenario.anchors, &furniture);
     render::Renderer renderer(built.scene);
     render::RenderOptions render_options;
     render_options.spp = scenario.spp;
