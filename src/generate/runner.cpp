@@ -194,12 +194,7 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
     const FrameDraft draft = draft_frame(scenario, options.seed, frame, context);
     const BuiltFrame built = build_frame(draft, body_data, clips, scenario.anchors, &furniture);
     render::Renderer renderer(built.scene);
-    render::RenderOptions render_options;
-    render_options.spp = scenario.spp;
-    render_options.light_samples = scenario.light_samples;
-    render_options.denoise_radius = scenario.denoise_radius;
-    render_options.adaptive_contrast = static_cast<float>(scenario.adaptive_contrast);
-    const render::FrameBuffers buffers = renderer.render(render_options);
+    const render::FrameBuffers buffers = renderer.render(scenario.render_options());
     FrameLabels labels = label_frame(built, buffers, label_options);
     dropped += labels.dropped_people;
 

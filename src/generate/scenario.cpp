@@ -2,6 +2,8 @@
 
 #include "generate/scenario.h"
 
+#include <limits>
+
 #include "core/error.h"
 
 namespace wheelpose::generate {
@@ -23,18 +25,39 @@ Scenario Scenario::defaults() {
   return s;
 }
 
+render::RenderOptions Scenario::render_options() const {
+  render::RenderOptions options;
+  options.spp = spp;
+  options.light_samples = light_samples;
+  options.denoise_radius = denoise_radius;
+  options.adaptive_contrast = static_cast<float>(adaptive_contrast);
+  return options;
+}
+
 Scenario Scenario::from_config(const ConfigNode& root) {
   Scenario s;
   if (!root.is_null() && !root.is_map()) root.fail("expected a map of sections");
   if (auto image = root.optional_child("image")) {
     s.width = static_cast<int>(image->get_int("width", s.width, 16, 16384));
     s.height = static_cast<int>(image->get_int("height", s.height, 16, 16384));
-    s.spp = static_cast<int>(image->get_int("spp", s.spp, 1, 4096));
-    s.light_samples = static_cast<int>(image->get_int("light_samples", s.light_samples, 1, s.spp));
-    s.denoise_radius = static_cast<int>(image->get_int("denoise_radius", s.denoise_radius, 0, 16));
-    s.adaptive_contrast = image->get_double("adaptive_contrast", s.adaptive_contrast, -1.0, 1.0);
+    // Their ranges are the renderer's (RenderOptions::check, below).
+    constexpr long long kIntMin = std::numeric_limits<int>::min();
+    constexpr long long kIntMax = std::numeric_limits<int>::max();
+    s.spp = static_cast<int>(image->get_int("spp", s.spp, kIntMin, kIntMax));
+    s.light_samples =
+        static_cast<int>(image->get_int("light_samples", s.light_samples, kIntMin, kIntMax));
+    s.denoise_radius =
+        static_cast<int>(image->get_int("denoise_radius", s.denoise_radius, kIntMin, kIntMax));
+    s.adaptive_contrast = image->get_double("adaptive_contrast", s.adaptive_contrast,
+                                            -std::numeric_limits<double>::max(),
+                                            std::numeric_limits<double>::max());
     s.jpeg_quality = static_cast<int>(image->get_int("jpeg_quality", s.jpeg_quality, 1, 100));
     image->finish();
+    try {
+      s.render_options().check();
+    } catch (const Error& e) {
+      image->fail(e.what());
+    }
   }
   if (auto labels = root.optional_child("labels")) {
     s.keypoint_template_name = labels->get_string("keypoint_template", s.keypoint_template_name);

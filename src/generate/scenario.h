@@ -17,6 +17,7 @@
 #include "eval/keypoint_template.h"
 #include "generate/frame_builder.h"
 #include "generate/randomizer.h"
+#include "render/renderer.h"
 
 namespace wheelpose::generate {
 
@@ -40,6 +41,9 @@ struct Scenario {
   std::vector<Active> randomizers;  // enabled, in registry order
   eval::KeypointTemplate keypoint_template;
   std::vector<KeypointAnchor> anchors;
+
+  // The renderer's options for this scenario's image settings (checked when read).
+  render::RenderOptions render_options() const;
 
   // Every setting at its default (the paper preset).
   static Scenario defaults();

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <memory>
 #include <mutex>
 #include <numbers>
@@ -333,16 +334,26 @@ struct Renderer::PixelLighting {
   std::vector<std::uint8_t> refine;   // pixels that take the remaining samples
 };
 
+void RenderOptions::check(const Names& names) const {
+  auto outside = [](const char* name, double value, const std::string& range) {
+    std::ostringstream text;
+    text << name << " (" << value << ") must be between " << range;
+    throw Error(text.str());
+  };
+  if (spp < 1 || spp > kMaxSpp) outside(names.spp, spp, "1 and " + std::to_string(kMaxSpp));
+  if (light_samples < 1 || light_samples > spp) {
+    outside(names.light_samples, light_samples,
+            std::string("1 and ") + names.spp + " (" + std::to_string(spp) + ")");
+  }
+  if (denoise_radius < 0 || denoise_radius > kMaxDenoiseRadius)
+    outside(names.denoise_radius, denoise_radius, "0 and " + std::to_string(kMaxDenoiseRadius));
+  if (!(adaptive_contrast >= -1.0f && adaptive_contrast <= 1.0f))
+    outside(names.adaptive_contrast, adaptive_contrast, "-1 and 1");
+}
+
 FrameBuffers Renderer::render(const RenderOptions& options) {
   const int w = scene_.camera.width, h = scene_.camera.height;
-  if (options.spp < 1) throw Error("samples per pixel must be at least 1");
-  if (options.light_samples < 1 || options.light_samples > options.spp) {
-    throw Error("light samples per pixel must be between 1 and the samples per pixel (" +
-                std::to_string(options.spp) + ")");
-  }
-  if (options.denoise_radius < 0 || options.denoise_radius > 16) {
-    throw Error("denoise radius must be between 0 and 16 pixels");
-  }
+  options.check();
   FrameBuffers out;
   // Not cleared: pass 1 writes every pixel's ground truth and the composition every colour.
   out.linear = cv::Mat(h, w, CV_32FC3);

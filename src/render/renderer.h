@@ -41,6 +41,7 @@ namespace wheelpose::render {
 // value of a render with spp = light_samples. Off with a lens (defocus blur needs every
 // sample) and when adaptive_contrast < 0.
 struct RenderOptions {
+  static constexpr int kMaxSpp = 4096, kMaxDenoiseRadius = 16;
   int spp = 1;             // samples per pixel (anti-aliasing, depth of field)
   int light_samples = 1;   // of those, how many sample the lights (1 … spp)
   int denoise_radius = 3;  // lighting smoothing window (pixels; 0 = off)
@@ -48,6 +49,18 @@ struct RenderOptions {
   // take every sample; < 0 = uniform sampling, every pixel takes spp samples.
   float adaptive_contrast = 0.05f;  // scenario image.adaptive_contrast
   bool post = true;                 // apply Scene::post; false gives the plain sRGB encoding
+
+  // How the fields are spelled in messages: as a scenario's image section names them, or as
+  // `wheelpose render`'s flags.
+  struct Names {
+    const char *spp, *light_samples, *denoise_radius, *adaptive_contrast;
+  };
+  static constexpr Names kScenarioNames{"spp", "light_samples", "denoise_radius",
+                                        "adaptive_contrast"};
+  // Every rule these options obey, held here once (Renderer::render, the scenario's image
+  // section and `wheelpose render` all call it): throws Error naming the first field that
+  // breaks one.
+  void check(const Names& names = kScenarioNames) const;
 };
 
 // Ground-truth buffers come from one pinhole ray through each pixel centre, so labels are
