@@ -68,6 +68,10 @@ TEST(BodyCli, BadInputsExitTwoWithOneLine) {
   r = run_wheelpose("body export --seed 1 --clip /nonexistent.json --out " +
                     (dir / "x.glb").string() + kAssets);
   EXPECT_EQ(r.exit_code, 2) << r.output;
+  r = run_wheelpose("body export --empty-wheelchair --params wheelchair=none --out " +
+                    (dir / "x.glb").string() + kAssets);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("nothing to export"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "x.glb"));
 }
 

@@ -64,6 +64,8 @@ void run_export(const BodyOptions& o) {
     return;
   }
   if (o.empty) {
+    if (spec.wheelchair == body::WheelchairType::kNone)
+      throw Error("body export: --empty-wheelchair with wheelchair=none leaves nothing to export");
     RandomStream stream(o.seed, {"body", "wheelchair"});
     const body::Wheelchair chair = body::make_empty_wheelchair(spec.wheelchair, stream);
     body::write_wheelchair_glb(chair, o.out);
