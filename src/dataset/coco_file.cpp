@@ -419,6 +419,48 @@ std::optional<std::int64_t> as_integer(const json& v) {
   return std::nullopt;
 }
 
+namespace {
+std::string compact(const json& value) {
+  return value.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+}  // namespace
+
+CanonicalCocoWriter::CanonicalCocoWriter(std::function<void(const std::string&)> sink)
+    : sink_(std::move(sink)) {
+  sink_("{\n");
+}
+
+void CanonicalCocoWriter::key(const std::string& name) {
+  sink_((first_member_ ? "" : ",\n") + json(name).dump() + ": ");
+  first_member_ = false;
+}
+
+void CanonicalCocoWriter::member(const std::string& name, const json& value) {
+  if (value.is_array()) {
+    begin_array(name);
+    for (const json& e : value) element(e);
+    end_array();
+    return;
+  }
+  key(name);
+  sink_(compact(value));
+}
+
+void CanonicalCocoWriter::begin_array(const std::string& name) {
+  key(name);
+  sink_("[");
+  array_empty_ = true;
+}
+
+void CanonicalCocoWriter::element(const json& value) {
+  sink_((array_empty_ ? "\n" : ",\n") + compact(value));
+  array_empty_ = false;
+}
+
+void CanonicalCocoWriter::end_array() { sink_(array_empty_ ? "]" : "\n]"); }
+
+void CanonicalCocoWriter::finish() { sink_("\n}\n"); }
+
 std::string canonical_coco_text(json root) {
   if (!root.is_object()) return root.dump() + "\n";
   auto sort_by = [&](const char* array, const char* k1, const char* k2) {
@@ -433,24 +475,11 @@ std::string canonical_coco_text(json root) {
   sort_by("images", "id", nullptr);
   sort_by("annotations", "image_id", "id");
   sort_by("categories", "id", nullptr);
-  std::string out = "{\n";
-  bool first = true;
-  for (const auto& [key, value] : root.items()) {  // nlohmann's object keeps keys sorted
-    if (!first) out += ",\n";
-    first = false;
-    out += json(key).dump() + ": ";
-    if (value.is_array() && !value.empty()) {
-      out += "[\n";
-      for (std::size_t i = 0; i < value.size(); ++i) {
-        out += value[i].dump(-1, ' ', false, json::error_handler_t::replace);
-        out += i + 1 < value.size() ? ",\n" : "\n";
-      }
-      out += "]";
-    } else {
-      out += value.dump(-1, ' ', false, json::error_handler_t::replace);
-    }
-  }
-  out += "\n}\n";
+  std::string out;
+  CanonicalCocoWriter writer([&out](const std::string& text) { out += text; });
+  for (const auto& [key, value] : root.items())  // nlohmann's object keeps keys sorted
+    writer.member(key, value);
+  writer.finish();
   return out;
 }
 

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -23,6 +24,25 @@ using nlohmann::json;
 
 // Parses a JSON file; malformed JSON throws Error naming the file, line and byte.
 json load_json(const std::filesystem::path& path);
+
+// The canonical text written member by member, for files too large to hold (generate streams
+// annotations.json from its per-frame fragments through it). The caller gives the top-level
+// keys in byte order and array elements in their final order; canonical_coco_text writes
+// through it too, so both give the same bytes.
+class CanonicalCocoWriter {
+ public:
+  explicit CanonicalCocoWriter(std::function<void(const std::string&)> sink);
+  void member(const std::string& key, const json& value);  // a whole member
+  void begin_array(const std::string& key);                // or one element at a time
+  void element(const json& value);
+  void end_array();
+  void finish();  // the closing brace and final newline
+
+ private:
+  void key(const std::string& name);
+  std::function<void(const std::string&)> sink_;
+  bool first_member_ = true, array_empty_ = true;
+};
 
 // The canonical text of a COCO object (sorting its arrays as above).
 std::string canonical_coco_text(json root);

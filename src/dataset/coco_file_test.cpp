@@ -35,6 +35,25 @@ TEST(CanonicalCoco, SortsArraysAndKeysOneElementPerLine) {
   EXPECT_EQ(canonical_coco_text(json::parse(once)), once);
 }
 
+TEST(CanonicalCoco, StreamedMemberByMemberGivesTheSameBytes) {
+  const json root = json::parse(R"({
+    "annotations": [{"id": 1, "image_id": 1, "bbox": [0.5, 1, 2, 3]}, {"id": 2, "image_id": 1}],
+    "categories": [{"id": 1, "name": "person"}], "images": [], "info": {"year": 2026},
+    "licenses": []})");
+  std::string streamed;
+  CanonicalCocoWriter writer([&streamed](const std::string& text) { streamed += text; });
+  writer.begin_array("annotations");
+  for (const json& a : root["annotations"]) writer.element(a);
+  writer.end_array();
+  writer.member("categories", root["categories"]);
+  writer.begin_array("images");
+  writer.end_array();
+  writer.member("info", root["info"]);
+  writer.member("licenses", json::array());
+  writer.finish();
+  EXPECT_EQ(streamed, canonical_coco_text(root));
+}
+
 TEST(CocoInteger, AcceptsIntegralFloatsOnly) {
   EXPECT_EQ(as_integer(json(785)), 785);
   EXPECT_EQ(as_integer(json(785.0)), 785);

@@ -16,6 +16,7 @@
 #include "body/person.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "dataset/coco_file.h"
 #include "generate/frame_builder.h"
 #include "generate/labeler.h"
 #include "render/frame_io.h"
@@ -66,10 +67,8 @@ std::vector<std::uint8_t> encode_image(const cv::Mat& rgb, const std::string& fo
   return bytes;
 }
 
-std::string element_text(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
-
-// annotations.json in the canonical form of dataset::write_coco (keys sorted, one array
-// element per line), streamed from the fragments so memory does not grow with the frame count.
+// annotations.json in the canonical form of dataset::write_coco, streamed from the fragments so
+// memory does not grow with the frame count.
 std::pair<std::int64_t, std::int64_t> assemble_annotations(const fs::path& out,
                                                            std::int64_t first, std::int64_t end,
                                                            const json& info, const json& cat) {
@@ -83,28 +82,29 @@ std::pair<std::int64_t, std::int64_t> assemble_annotations(const fs::path& out,
                   e.what());
     }
   };
+  dataset::CanonicalCocoWriter coco([&file](const std::string& text) { file.write(text); });
   std::int64_t annotations = 0;
-  file.write("{\n\"annotations\": [");
-  bool any = false;
+  coco.begin_array("annotations");
   for (std::int64_t f = first; f < end; ++f) {
     json frag = fragment(f);
     for (json& a : frag["annotations"]) {
       a["id"] = ++annotations;
       a["image_id"] = f + 1;
-      file.write((any ? ",\n" : "\n") + element_text(a));
-      any = true;
+      coco.element(a);
     }
   }
-  file.write(any ? "\n],\n" : "],\n");
-  file.write("\"categories\": [\n" + element_text(cat) + "\n],\n");
-  file.write("\"images\": [");
+  coco.end_array();
+  coco.member("categories", json::array({cat}));
+  coco.begin_array("images");
   for (std::int64_t f = first; f < end; ++f) {
     json image = fragment(f)["image"];
     image["id"] = f + 1;
-    file.write((f > first ? ",\n" : "\n") + element_text(image));
+    coco.element(image);
   }
-  file.write(end > first ? "\n],\n" : "],\n");
-  file.write("\"info\": " + element_text(info) + ",\n\"licenses\": []\n}\n");
+  coco.end_array();
+  coco.member("info", info);
+  coco.member("licenses", json::array());
+  coco.finish();
   file.commit();
   return {end - first, annotations};
 }
