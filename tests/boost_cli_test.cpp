@@ -29,8 +29,8 @@ TEST(BoostScript, QuickRunWritesTheComparison) {
   const fs::path out = dir / "run";
   const std::string command = "bash " + std::string(WHEELPOSE_SOURCE_DIR) +
                               "/scripts/boost.sh --quick --ablate --real " + real.string() + " " +
-                              out.string() + " > " +
-                              (out.parent_path() / "log.txt").string() + " 2>&1";
+                              out.string() + " > " + (out.parent_path() / "log.txt").string() +
+                              " 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << read_text(out.parent_path() / "log.txt");
   const std::string report = read_text(out / "report.md");
   EXPECT_NE(report.find("| KP AP | "), std::string::npos) << report;

@@ -370,7 +370,8 @@ TEST(GenerateCli, PeopleWithoutWheelchairsStandTallerInTheSameScenes) {
   std::map<std::pair<int, int>, double> seated_height;
   for (const json& a : with["annotations"]) {
     EXPECT_NE(a["wheelchair_type"], "none");
-    seated_height[{a["image_id"].get<int>(), a["pool_slot"].get<int>()}] = a["bbox"][3].get<double>();
+    seated_height[{a["image_id"].get<int>(), a["pool_slot"].get<int>()}] =
+        a["bbox"][3].get<double>();
   }
   double taller = 0, compared = 0;
   for (const json& a : without["annotations"]) {

@@ -116,7 +116,8 @@ TEST(RenderCli, BadFlagsAreUsageErrors) {
   const auto more_lit = run_wheelpose("render " + (dir / "wall.json").string() + " --out " +
                                       (dir / "out").string() + " --spp 2 --light-samples 3");
   EXPECT_EQ(more_lit.exit_code, 2) << more_lit.output;
-  EXPECT_NE(more_lit.output.find("--light-samples (3) must be between 1 and --spp (2)"), std::string::npos)
+  EXPECT_NE(more_lit.output.find("--light-samples (3) must be between 1 and --spp (2)"),
+            std::string::npos)
       << more_lit.output;
   EXPECT_FALSE(fs::exists(dir / "out"));
   const auto contrast = run_wheelpose("render " + (dir / "wall.json").string() + " --out " +

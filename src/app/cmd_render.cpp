@@ -49,9 +49,9 @@ void run_render(const RenderCommandOptions& o) {
       "rendered {}x{} at {} spp ({} lit, {:.1f} % of pixels took all): build {:.1f} ms, trace "
       "{:.1f} ms, shade {:.1f} ms, edges {:.1f} ms, denoise {:.1f} ms, post {:.1f} ms, encode "
       "{:.1f} ms, write {:.1f} ms ({} rays) -> {}",
-      s.camera.width, s.camera.height, options.spp, options.light_samples, 100.0 * t.refined_fraction,
-      renderer->build_ms(), t.trace_ms, t.shade_ms, t.edges_ms, t.denoise_ms, t.post_ms,
-      w.encode_ms, w.write_ms, t.rays, o.out);
+      s.camera.width, s.camera.height, options.spp, options.light_samples,
+      100.0 * t.refined_fraction, renderer->build_ms(), t.trace_ms, t.shade_ms, t.edges_ms,
+      t.denoise_ms, t.post_ms, w.encode_ms, w.write_ms, t.rays, o.out);
 }
 
 }  // namespace

@@ -166,9 +166,9 @@ motion::PoseRotations rest_standing_pose() {
   for (int side : {1, -1}) {
     const bool left = side > 0;
     const Q arm_down = Q::FromTwoVectors(V(side, 0, 0), V(0.15 * side, -0.99, 0).normalized());
-    for (int joint : left ? std::array{motion::kLeftShoulder, motion::kLeftElbow, motion::kLeftWrist}
-                          : std::array{motion::kRightShoulder, motion::kRightElbow,
-                                       motion::kRightWrist})
+    for (int joint :
+         left ? std::array{motion::kLeftShoulder, motion::kLeftElbow, motion::kLeftWrist}
+              : std::array{motion::kRightShoulder, motion::kRightElbow, motion::kRightWrist})
       g[joint] = arm_down;
   }
   return g;
@@ -192,10 +192,11 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
   const std::vector<Eigen::Vector3f> morphed = data.model().morph(spec.params);
   person.rest_bones = bone_positions(rig, morphed);
   const bool standing = spec.wheelchair == WheelchairType::kNone;
-  RigPose pose = retarget(rig, person.rest_bones,
-                          standing    ? with_standing_legs(spec.pose ? *spec.pose : rest_standing_pose())
-                          : spec.pose ? *spec.pose
-                                      : rest_seated_pose());
+  RigPose pose =
+      retarget(rig, person.rest_bones,
+               standing    ? with_standing_legs(spec.pose ? *spec.pose : rest_standing_pose())
+               : spec.pose ? *spec.pose
+                           : rest_seated_pose());
   const std::vector<int>& body = data.body_vertices();
 
   std::vector<Eigen::Vector3f> posed;

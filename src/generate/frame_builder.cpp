@@ -194,8 +194,8 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
       p.clip >= 0 && static_cast<std::size_t>(p.clip) < clips.size() ? &clips[p.clip] : nullptr;
   if (clip != nullptr) {
     spec.pose = clip_pose(*clip, p.time);
-    spec.hands_on_rims = spec.wheelchair != body::WheelchairType::kNone &&
-                         pushes_the_rims(clip->motion.name);
+    spec.hands_on_rims =
+        spec.wheelchair != body::WheelchairType::kNone && pushes_the_rims(clip->motion.name);
   }
   const body::Person person = body::build_person(body_data, spec);
 
@@ -318,10 +318,9 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
   label.attributes["wheelchair_type"] = body::wheelchair_type_name(person.chair.type);
   label.attributes["limb_difference"] = std::move(limbs);
   label.attributes["mobility_aid"] = body::mobility_aid_name(person.aid.type);
-  label.attributes["motion_id"] =
-      clip != nullptr ? clip->motion.name
-      : spec.wheelchair == body::WheelchairType::kNone ? "rest_standing"
-                                                        : "rest_seated";
+  label.attributes["motion_id"] = clip != nullptr ? clip->motion.name
+                                  : spec.wheelchair == body::WheelchairType::kNone ? "rest_standing"
+                                                                                   : "rest_seated";
   label.attributes["motion_time"] = clip != nullptr ? std::round(p.time * 1e4) / 1e4 : 0.0;
   label.attributes["scale"] = std::round(static_cast<double>(p.scale) * 1e4) / 1e4;
   // The MakeHuman clothes, hair and eyebrows worn, so train/test asset overlap is checkable.

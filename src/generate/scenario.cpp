@@ -48,9 +48,9 @@ Scenario Scenario::from_config(const ConfigNode& root) {
         static_cast<int>(image->get_int("light_samples", s.light_samples, kIntMin, kIntMax));
     s.denoise_radius =
         static_cast<int>(image->get_int("denoise_radius", s.denoise_radius, kIntMin, kIntMax));
-    s.adaptive_contrast = image->get_double("adaptive_contrast", s.adaptive_contrast,
-                                            -std::numeric_limits<double>::max(),
-                                            std::numeric_limits<double>::max());
+    s.adaptive_contrast =
+        image->get_double("adaptive_contrast", s.adaptive_contrast,
+                          -std::numeric_limits<double>::max(), std::numeric_limits<double>::max());
     s.jpeg_quality = static_cast<int>(image->get_int("jpeg_quality", s.jpeg_quality, 1, 100));
     image->finish();
     try {

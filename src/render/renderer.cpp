@@ -9,12 +9,12 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <memory>
 #include <mutex>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 #include <optional>
+#include <sstream>
 #include <string>
 
 #include "core/error.h"
