@@ -34,7 +34,7 @@ while (($#)); do
       real=$2
       shift
       ;;
-    -h|--help) sed -n '2,21p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
     -*) echo "boost: unknown option $1 (see --help)" >&2; exit 2 ;;
     *) out="$1" ;;
   esac
