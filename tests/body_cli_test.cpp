@@ -2,10 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
-
-#include <nlohmann/json.hpp>
+#include <set>
 
 #include "cli_runner.h"
 
@@ -116,6 +116,99 @@ TEST(BodyCli, PosesPersonByASeatedClipFrame) {
   r = run_wheelpose("body export --seed 1 --clip " + clip + " --frame 100000 --out " +
                     (dir / "x.glb").string() + kAssets);
   EXPECT_EQ(r.exit_code, 2) << r.output;
+}
+
+}  // namespace
+}  // namespace wheelpose::testing
+
+namespace wheelpose::testing {
+namespace {
+
+// The JSON chunk of a .glb.
+nlohmann::json glb_json(const std::string& glb) {
+  auto u32 = [&glb](std::size_t at) {
+    return static_cast<std::uint32_t>(static_cast<unsigned char>(glb[at])) |
+           static_cast<std::uint32_t>(static_cast<unsigned char>(glb[at + 1])) << 8 |
+           static_cast<std::uint32_t>(static_cast<unsigned char>(glb[at + 2])) << 16 |
+           static_cast<std::uint32_t>(static_cast<unsigned char>(glb[at + 3])) << 24;
+  };
+  return nlohmann::json::parse(glb.substr(20, u32(12)));
+}
+
+// The first `frames` frames of the CMU clip as a seated clip JSON.
+std::filesystem::path short_clip(const std::filesystem::path& dir, std::size_t frames) {
+  const std::string bvh = std::string(WHEELPOSE_SHARED_DIR) + "/data/bvh/131_01.bvh";
+  const CliResult r =
+      run_wheelpose("motion convert " + bvh + " --out " + dir.string() + " --exports json");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  auto clip = nlohmann::json::parse(read_text(dir / "131_01.json"));
+  for (const char* key : {"root_positions", "local_rotations", "positions"}) {
+    auto& values = clip[key];
+    values.erase(values.begin() + static_cast<long>(std::min(frames, values.size())), values.end());
+  }
+  clip["frame_count"] = frames;
+  const auto path = dir / ("short_" + std::to_string(frames) + ".json");
+  std::ofstream(path) << clip.dump();
+  return path;
+}
+
+TEST(BodyCli, RiggedExportAnimatesTheSkinnedPersonByTheClip) {
+  const auto dir = fresh_temp_dir("body_rigged");
+  const std::string clip = short_clip(dir, 24).string();
+  const std::string args = "body export --rigged --seed 4 --clip " + clip +
+                           " --params mobility_aid=cane wear=clothes/shoes01 wear=hair/short02";
+  for (const char* name : {"a.glb", "b.glb"}) {
+    const CliResult r = run_wheelpose(args + " --out " + (dir / name).string() + kAssets);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  const std::string glb = read_text(dir / "a.glb");
+  EXPECT_EQ(glb, read_text(dir / "b.glb"));  // same input, same bytes
+  const nlohmann::json gltf = glb_json(glb);
+  ASSERT_EQ(gltf["skins"].size(), 1u);
+  EXPECT_EQ(gltf["skins"][0]["joints"].size(), 53u);
+  ASSERT_EQ(gltf["animations"].size(), 1u);
+  const auto& animation = gltf["animations"][0];
+  EXPECT_EQ(animation["channels"].size(), 53u + 1u);  // every rotation, the root's translation
+  for (const auto& sampler : animation["samplers"]) {
+    EXPECT_EQ(sampler["interpolation"], "LINEAR");
+    const auto& times = gltf["accessors"][sampler["input"].get<int>()];
+    EXPECT_EQ(times["count"], 24);
+    EXPECT_NEAR(times["max"][0].get<double>(), 23.0 / 120.0, 1e-6);
+  }
+  // Body, shoes, hair and the cane skinned; the chair's parts under the person's node.
+  std::set<std::string> skinned, under_person;
+  for (const auto& node : gltf["nodes"])
+    if (node.contains("skin")) skinned.insert(node["name"].get<std::string>());
+  for (int child : gltf["nodes"][0]["children"])
+    under_person.insert(gltf["nodes"][child]["name"].get<std::string>());
+  for (const char* name :
+       {"body_node", "shoes01_node", "short02_node", "mobility_aid_hand_r_frame_node"})
+    EXPECT_EQ(skinned.count(name), 1u) << name;
+  EXPECT_EQ(under_person.count("wheelchair_frame_node"), 1u);
+  EXPECT_EQ(under_person.count("Root"), 1u);
+  // The description beside it is the first frame's person.
+  const auto json = nlohmann::json::parse(read_text(dir / "a.json"));
+  EXPECT_EQ(json["coco_keypoints"].size(), 17u);
+}
+
+TEST(BodyCli, RiggedExportRefusesBadInputWithoutWritingAFile) {
+  const auto dir = fresh_temp_dir("body_rigged_bad");
+  const auto out = dir / "x.glb";
+  const std::string clip = short_clip(dir, 0).string();
+  CliResult r = run_wheelpose("body export --rigged --out " + out.string() + kAssets);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--rigged needs --clip"), std::string::npos) << r.output;
+  r = run_wheelpose("body export --rigged --clip " + clip + " --out " + out.string() + kAssets);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("no frames"), std::string::npos) << r.output;
+  r = run_wheelpose("body export --rigged --clip " + clip + " --frame 3 --out " + out.string() +
+                    kAssets);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  r = run_wheelpose("body export --rigged --clip /nonexistent.json --out " + out.string() +
+                    kAssets);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.json"));
 }
 
 }  // namespace

@@ -6,19 +6,21 @@
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <memory>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
-#include <opencv2/core.hpp>
 #include <vector>
 
 #include "body/assets.h"
 #include "body/person.h"
+#include "body/person_animation.h"
+#include "body/rigged_glb.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "dataset/coco_viz.h"
 #include "generate/portrait.h"
-#include "render/frame_io.h"
 #include "motion/clip_json.h"
+#include "render/frame_io.h"
 
 namespace wheelpose::app {
 namespace {
@@ -35,6 +37,7 @@ struct BodyOptions {
   int count = 1;
   bool empty = false;
   bool cc_by = false;
+  bool rigged = false;
 };
 
 fs::path json_beside(const fs::path& glb) {
@@ -58,6 +61,9 @@ void run_export(const BodyOptions& o) {
   if (o.out.empty()) throw Error("body export: --out is required");
   body::PersonSpec spec = body::sample_spec(o.seed);
   body::apply_overrides(spec, o.params);
+  if (o.rigged && (o.cc_by || o.empty))
+    throw Error(
+        "body export: --rigged exports a person, not --empty-wheelchair or --cc-by-wheelchair");
   if (o.cc_by) {
     body::write_cc_by_wheelchair_glb(o.out);
     spdlog::info("wrote {} (credit: {})", o.out, body::kCcByWheelchairCredit);
@@ -72,6 +78,17 @@ void run_export(const BodyOptions& o) {
     write_file_atomic(json_beside(o.out), chair.dimensions.dump(2) + "\n");
     spdlog::info("wrote empty {} wheelchair to {}", body::wheelchair_type_name(spec.wheelchair),
                  o.out);
+    return;
+  }
+  if (o.rigged) {
+    if (o.clip.empty()) throw Error("body export: --rigged needs --clip (the motion to animate)");
+    const motion::SeatedClip clip = motion::read_seated_clip_json(o.clip);
+    const body::BodyData data(body::locate_assets(explicit_assets(o)));
+    const body::PersonAnimation animation = body::animate_person(data, spec, clip.motion);
+    body::write_rigged_person_glb(animation, data, o.out);
+    write_file_atomic(json_beside(o.out), animation.person.description.dump(2) + "\n");
+    spdlog::info("wrote {} ({} frames) and {}", o.out, animation.frames.size(),
+                 json_beside(o.out).string());
     return;
   }
   if (!o.clip.empty()) {
@@ -130,7 +147,11 @@ void attach_body(CLI::App& parent) {
   CLI::App* exp = cmd->add_subcommand("export", "One posed person in a wheelchair as glb");
   common(exp);
   exp->add_option("--clip", options->clip, "Seated clip JSON (wheelpose motion output)");
-  exp->add_option("--frame", options->frame, "Frame of the clip");
+  CLI::Option* frame = exp->add_option("--frame", options->frame, "Frame of the clip");
+  exp->add_flag("--rigged", options->rigged,
+                "Skinned to the rig and animated by the whole --clip (glb with joints, skin "
+                "weights and the clip as an animation)")
+      ->excludes(frame);
   exp->add_flag("--empty-wheelchair", options->empty, "Only the wheelchair, nobody in it");
   exp->add_flag("--cc-by-wheelchair", options->cc_by,
                 "Only the CC-BY \"Wheel Chair\" by bgamage (sweethome3d-furniture)");

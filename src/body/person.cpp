@@ -1,18 +1,17 @@
 #include "body/person.h"
 
-#include <assimp/scene.h>
-
 #include <algorithm>
-#include <assimp/Exporter.hpp>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <set>
 
 #include "body/assets.h"
+#include "body/glb_parts.h"
 #include "body/rim_reach.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "motion/glb_file.h"
 #include "motion/seating.h"
 
 namespace wheelpose::body {
@@ -256,6 +255,7 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
       remap[i] = static_cast<unsigned>(person.vertices.size());
       person.vertices.push_back(posed[body[i]]);
       person.rest_vertices.push_back(morphed[body[i]]);
+      person.base_vertex.push_back(body[i]);
     }
     for (std::size_t c = 0; c < cut.caps.size(); ++c) {
       Eigen::Vector3f p = Eigen::Vector3f::Zero(), r = Eigen::Vector3f::Zero();
@@ -267,6 +267,9 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
       remap[cut.caps[c]] = static_cast<unsigned>(person.vertices.size());
       person.vertices.push_back(p / n);
       person.rest_vertices.push_back(r / n);
+      person.base_vertex.push_back(-1);
+      std::vector<unsigned>& rim = person.cap_rims.emplace_back();
+      for (unsigned v : cut.cap_rims[c]) rim.push_back(remap[v]);
     }
     person.triangles.reserve(cut.triangles.size());
     auto hidden = [&](unsigned local) { return local < body.size() && covered[body[local]]; };
@@ -377,6 +380,8 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
   for (auto& p : person.chair.parts) p.centre += shift;
   for (auto& v : person.chair.model.vertices) v += shift;
   person.chair.ground_y = 0;
+  person.pose = pose;
+  person.pose.root_offset += shift;
   place_aid();
 
   float ymin = 1e9f, ymax = -1e9f;
@@ -438,153 +443,18 @@ std::vector<Eigen::Vector3f> vertex_normals(const std::vector<Eigen::Vector3f>& 
 
 namespace {
 
-aiVector3D ai(const Eigen::Vector3f& v) { return aiVector3D(v.x(), v.y(), v.z()); }
-
-aiMesh* make_ai_mesh(const std::string& name, const std::vector<Eigen::Vector3f>& vertices,
-                     const std::vector<Eigen::Vector3f>* normals,
-                     const std::vector<std::array<unsigned, 3>>& triangles, unsigned material) {
-  auto* mesh = new aiMesh;
-  mesh->mName = name;
-  mesh->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
-  mesh->mMaterialIndex = material;
-  mesh->mNumVertices = static_cast<unsigned>(vertices.size());
-  mesh->mVertices = new aiVector3D[vertices.size()];
-  for (std::size_t i = 0; i < vertices.size(); ++i) mesh->mVertices[i] = ai(vertices[i]);
-  if (normals != nullptr) {
-    mesh->mNormals = new aiVector3D[vertices.size()];
-    for (std::size_t i = 0; i < vertices.size(); ++i) mesh->mNormals[i] = ai((*normals)[i]);
-  }
-  mesh->mNumFaces = static_cast<unsigned>(triangles.size());
-  mesh->mFaces = new aiFace[triangles.size()];
-  for (std::size_t i = 0; i < triangles.size(); ++i) {
-    mesh->mFaces[i].mNumIndices = 3;
-    mesh->mFaces[i].mIndices = new unsigned[3]{triangles[i][0], triangles[i][1], triangles[i][2]};
-  }
-  return mesh;
-}
-
-aiMaterial* make_material(const std::string& name, const Eigen::Vector3f& colour) {
-  auto* m = new aiMaterial;
-  const aiString n(name);
-  m->AddProperty(&n, AI_MATKEY_NAME);
-  const aiColor4D c(colour.x(), colour.y(), colour.z(), 1.0f);
-  m->AddProperty(&c, 1, AI_MATKEY_COLOR_DIFFUSE);
-  return m;
-}
-
-std::uint32_t u32(const std::vector<std::uint8_t>& b, std::size_t at) {
-  return b[at] | b[at + 1] << 8 | b[at + 2] << 16 | static_cast<std::uint32_t>(b[at + 3]) << 24;
-}
-
-// Assimp 5.2.5 leaves uninitialised bytes between buffer views; zero them for determinism.
-void zero_gaps(std::vector<std::uint8_t>& glb) {
-  if (glb.size() < 28) return;
-  const std::size_t json_len = u32(glb, 12);
-  const std::size_t bin_header = 20 + json_len;
-  if (glb.size() < bin_header + 8) return;
-  const std::size_t bin_start = bin_header + 8;
-  const std::size_t bin_len = std::min<std::size_t>(u32(glb, bin_header), glb.size() - bin_start);
-  const auto json =
-      nlohmann::json::parse(glb.begin() + 20, glb.begin() + 20 + json_len, nullptr, false);
-  if (json.is_discarded() || !json.contains("bufferViews")) return;
-  std::vector<bool> used(bin_len, false);
-  for (const auto& view : json["bufferViews"]) {
-    const std::size_t off = view.value("byteOffset", std::size_t{0});
-    const std::size_t len = view.value("byteLength", std::size_t{0});
-    for (std::size_t i = off; i < std::min(off + len, bin_len); ++i) used[i] = true;
-  }
-  for (std::size_t i = 0; i < bin_len; ++i) {
-    if (!used[i]) glb[bin_start + i] = 0;
-  }
-}
-
-struct SceneParts {
-  std::vector<aiMesh*> meshes;
-  std::vector<aiMaterial*> materials;
-  std::vector<std::pair<std::string, Eigen::Vector3f>> markers;
-};
-
-// One mesh per material of a primitive assembly, named <prefix>_<material name>.
-void add_primitives(SceneParts& parts, const std::vector<Primitive>& prims,
-                    const std::vector<Eigen::Vector3f>& colours, const std::string& prefix,
-                    const std::vector<const char*>& names) {
-  for (int m = 0; m < static_cast<int>(colours.size()); ++m) {
-    const TriMesh mesh = primitive_mesh(prims, m);
-    if (mesh.triangles.empty()) continue;
-    const std::string name = prefix + "_" + names[static_cast<std::size_t>(m)];
-    parts.materials.push_back(make_material(name + "_material", colours[m]));
-    parts.meshes.push_back(make_ai_mesh(name, mesh.vertices, &mesh.normals, mesh.triangles,
-                                        static_cast<unsigned>(parts.materials.size() - 1)));
-  }
-}
-
-void add_chair(SceneParts& parts, const Wheelchair& chair) {
-  if (!chair.model.vertices.empty()) {
-    parts.materials.push_back(make_material("wheelchair_cc_by_material", chair.colours[0]));
-    const auto normals = vertex_normals(chair.model.vertices, chair.model.triangles);
-    parts.meshes.push_back(make_ai_mesh("wheelchair_cc_by", chair.model.vertices, &normals,
-                                        chair.model.triangles,
-                                        static_cast<unsigned>(parts.materials.size() - 1)));
-    return;
-  }
-  add_primitives(parts, chair.parts, chair.colours, "wheelchair",
-                 {"frame", "upholstery", "tyre", "trim"});
-}
-
 void export_parts(SceneParts& parts, const fs::path& path) {
-  auto scene = std::make_unique<aiScene>();
-  scene->mRootNode = new aiNode("wheelpose_body_root");
-  const std::size_t n = parts.meshes.size() + parts.markers.size();
-  scene->mRootNode->mNumChildren = static_cast<unsigned>(n);
-  scene->mRootNode->mChildren = new aiNode*[n];
-  for (std::size_t i = 0; i < parts.meshes.size(); ++i) {
-    auto* node = new aiNode(std::string(parts.meshes[i]->mName.C_Str()) + "_node");
-    node->mParent = scene->mRootNode;
-    node->mNumMeshes = 1;
-    node->mMeshes = new unsigned[1]{static_cast<unsigned>(i)};
-    scene->mRootNode->mChildren[i] = node;
-  }
-  for (std::size_t k = 0; k < parts.markers.size(); ++k) {
-    auto* node = new aiNode(parts.markers[k].first);
-    node->mParent = scene->mRootNode;
-    aiMatrix4x4::Translation(ai(parts.markers[k].second), node->mTransformation);
-    scene->mRootNode->mChildren[parts.meshes.size() + k] = node;
-  }
-  scene->mNumMeshes = static_cast<unsigned>(parts.meshes.size());
-  scene->mMeshes = new aiMesh*[parts.meshes.size()];
-  std::copy(parts.meshes.begin(), parts.meshes.end(), scene->mMeshes);
-  scene->mNumMaterials = static_cast<unsigned>(parts.materials.size());
-  scene->mMaterials = new aiMaterial*[parts.materials.size()];
-  std::copy(parts.materials.begin(), parts.materials.end(), scene->mMaterials);
-  Assimp::Exporter exporter;
-  const aiExportDataBlob* blob = exporter.ExportToBlob(scene.get(), "glb2");
-  if (blob == nullptr) {
-    throw Error(path.string() + ": glTF export failed: " + exporter.GetErrorString(),
-                ErrorKind::kFailure);
-  }
-  const auto* data = static_cast<const std::uint8_t*>(blob->data);
-  std::vector<std::uint8_t> bytes(data, data + blob->size);
-  zero_gaps(bytes);
-  write_file_atomic(path, std::span<const std::uint8_t>(bytes));
+  motion::write_glb_file(*assemble_scene(parts, "wheelpose_body_root"), path);
 }
 
 }  // namespace
 
 void write_person_glb(const Person& person, const BodyData& /*data*/, const fs::path& path) {
   SceneParts parts;
-  parts.materials.push_back(make_material("skin", person.skin));
-  const auto normals = vertex_normals(person.vertices, person.triangles);
-  parts.meshes.push_back(make_ai_mesh("body", person.vertices, &normals, person.triangles, 0));
+  add_body_mesh(parts, person.vertices, person.triangles, person.skin);
   add_chair(parts, person.chair);
-  add_primitives(parts, person.aid.parts, person.aid.colours, "mobility_aid", {"frame", "grips"});
-  for (const Garment& g : person.garments) {
-    if (g.triangles.empty()) continue;
-    const std::string name = g.name.substr(g.name.find('/') + 1);
-    parts.materials.push_back(make_material(name + "_material", {0.35f, 0.38f, 0.45f}));
-    const auto garment_normals = vertex_normals(g.vertices, g.triangles);
-    parts.meshes.push_back(make_ai_mesh(name, g.vertices, &garment_normals, g.triangles,
-                                        static_cast<unsigned>(parts.materials.size() - 1)));
-  }
+  add_primitives(parts, person.aid.parts, person.aid.colours, "mobility_aid", aid_material_names());
+  for (const Garment& g : person.garments) add_garment_mesh(parts, g, g.vertices);
   for (int k = 0; k < kCocoCount; ++k) {
     if (!person.coco_present[k]) continue;
     parts.markers.emplace_back(std::string("kp_") + coco_names()[k], person.coco[k]);
@@ -603,10 +473,8 @@ void write_wheelchair_glb(const Wheelchair& chair, const fs::path& path) {
 void write_cc_by_wheelchair_glb(const fs::path& path) {
   const TriMesh mesh = load_cc_by_wheelchair();
   SceneParts parts;
-  parts.materials.push_back(make_material("cc_by_wheelchair_material", {0.4f, 0.4f, 0.42f}));
-  const auto normals = vertex_normals(mesh.vertices, mesh.triangles);
-  parts.meshes.push_back(
-      make_ai_mesh("cc_by_wheelchair", mesh.vertices, &normals, mesh.triangles, 0));
+  add_mesh(parts, "cc_by_wheelchair", mesh.vertices, vertex_normals(mesh.vertices, mesh.triangles),
+           mesh.triangles, "cc_by_wheelchair_material", {0.4f, 0.4f, 0.42f});
   export_parts(parts, path);
 }
 

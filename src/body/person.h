@@ -93,6 +93,12 @@ struct Person {
   std::vector<Eigen::Vector3f> rest_vertices;      // the same, morphed and unposed
   std::vector<std::array<unsigned, 3>> triangles;  // over `vertices` (capped after limb cuts)
   BoneFrames rest_bones, posed_bones;
+  // The rig pose that gives posed_bones (root_offset includes the floor shift): skinning
+  // rest_vertices with it gives `vertices` (cap centres: the mean of their rims).
+  RigPose pose;
+  std::vector<int> base_vertex;  // per vertex: its base-mesh vertex, -1 for a cap centre
+  // Per cap centre (they follow the body's vertices, in order): the vertices it is the mean of.
+  std::vector<std::vector<unsigned>> cap_rims;
   motion::Pose joints;                           // our 23 joints on the posed body
   std::array<Eigen::Vector3f, kCocoCount> coco;  // COCO-17 keypoints
   std::array<bool, kCocoCount> coco_present{};   // false beyond a limb cut (label v = 0)

@@ -3,17 +3,14 @@
 #include <assimp/scene.h>
 
 #include <algorithm>
-#include <assimp/Exporter.hpp>
 #include <cstdint>
 #include <memory>
-#include <nlohmann/json.hpp>
-#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "core/atomic_file.h"
 #include "core/error.h"
+#include "motion/glb_file.h"
 #include "motion/stick_figure.h"
 
 namespace wheelpose::motion {
@@ -186,63 +183,12 @@ std::unique_ptr<aiScene> make_scene(const SkeletalMotion& motion) {
   return scene;
 }
 
-std::uint32_t read_u32(const std::vector<std::uint8_t>& bytes, std::size_t at) {
-  return static_cast<std::uint32_t>(bytes[at]) | static_cast<std::uint32_t>(bytes[at + 1]) << 8 |
-         static_cast<std::uint32_t>(bytes[at + 2]) << 16 |
-         static_cast<std::uint32_t>(bytes[at + 3]) << 24;
-}
-
-// Assimp 5.2.5 leaves uninitialised heap bytes in the gaps between buffer views of the binary
-// chunk, so two exports of the same motion differ. Zeroing every byte no buffer view covers makes
-// the file a pure function of the motion without changing what any reader sees.
-void zero_unreferenced_glb_bytes(std::vector<std::uint8_t>& glb) {
-  constexpr std::uint32_t kJson = 0x4E4F534A;  // "JSON"
-  constexpr std::uint32_t kBin = 0x004E4942;   // "BIN\0"
-  // Header (12 bytes), then chunks of {length, type, data}.
-  if (glb.size() < 20 || read_u32(glb, 16) != kJson) return;
-  const std::size_t json_length = read_u32(glb, 12);
-  const std::size_t bin_header = 20 + json_length;
-  if (glb.size() < bin_header + 8 || read_u32(glb, bin_header + 4) != kBin) return;
-  const std::size_t bin_start = bin_header + 8;
-  const std::size_t bin_length =
-      std::min<std::size_t>(read_u32(glb, bin_header), glb.size() - bin_start);
-  const auto json = nlohmann::json::parse(glb.begin() + 20, glb.begin() + 20 + json_length, nullptr,
-                                          /*allow_exceptions=*/false);
-  if (json.is_discarded() || !json.contains("bufferViews")) return;
-  std::vector<bool> used(bin_length, false);
-  for (const auto& view : json["bufferViews"]) {
-    const std::size_t offset = view.value("byteOffset", std::size_t{0});
-    const std::size_t length = view.value("byteLength", std::size_t{0});
-    for (std::size_t i = offset; i < std::min(offset + length, bin_length); ++i) used[i] = true;
-  }
-  for (std::size_t i = 0; i < bin_length; ++i) {
-    if (!used[i]) glb[bin_start + i] = 0;
-  }
-}
-
-void export_scene(const aiScene& scene, const char* format_id, const char* format_name,
-                  const std::filesystem::path& path) {
-  Assimp::Exporter exporter;
-  const aiExportDataBlob* blob = exporter.ExportToBlob(&scene, format_id);
-  if (blob == nullptr) {
-    const std::string reason = exporter.GetErrorString();
-    throw Error(path.string() + ": " + format_name +
-                    " export failed: " + (reason.empty() ? "Assimp gave no reason" : reason),
-                ErrorKind::kFailure);
-  }
-  // A glb is a single file; Assimp returns any extra files in blob->next.
-  const auto* data = static_cast<const std::uint8_t*>(blob->data);
-  std::vector<std::uint8_t> bytes(data, data + blob->size);
-  if (std::string_view(format_id) == "glb2") zero_unreferenced_glb_bytes(bytes);
-  write_file_atomic(path, std::span<const std::uint8_t>(bytes));
-}
-
 }  // namespace
 
 void write_glb(const SkeletalMotion& motion, const std::filesystem::path& path) {
   check_exportable(motion, "glTF");
   const std::unique_ptr<aiScene> scene = make_scene(motion);
-  export_scene(*scene, "glb2", "glTF", path);
+  write_glb_file(*scene, path);
 }
 
 }  // namespace wheelpose::motion
