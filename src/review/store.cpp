@@ -378,48 +378,46 @@ std::vector<ClipRecord> ReviewStore::clips() const {
   return out;
 }
 
-void ReviewStore::set_questionnaire(std::int64_t participant, const std::string& json) {
+// Questionnaire and free-text answers share one shape: a JSON text per participant, replaced on
+// every save. `table` is one of the two fixed names below, never user input.
+void ReviewStore::set_answers(const char* table, std::int64_t participant,
+                              const std::string& json) {
   std::lock_guard lock(mutex_);
   Transaction tx(db_, path_);
-  Statement(db_,
-            "INSERT INTO questionnaire (participant_id, answers, updated_at) VALUES (?, ?, ?) "
-            "ON CONFLICT (participant_id) DO UPDATE SET answers = excluded.answers, "
-            "updated_at = excluded.updated_at",
-            path_)
+  const std::string sql = std::string("INSERT INTO ") + table +
+                          " (participant_id, answers, updated_at) VALUES (?, ?, ?) "
+                          "ON CONFLICT (participant_id) DO UPDATE SET "
+                          "answers = excluded.answers, updated_at = excluded.updated_at";
+  Statement(db_, sql.c_str(), path_)
       .bind(1, participant)
       .bind(2, json)
       .bind(3, now_utc())
       .run();
   tx.commit();
+}
+
+std::string ReviewStore::answers(const char* table, std::int64_t participant) const {
+  std::lock_guard lock(mutex_);
+  const std::string sql = std::string("SELECT answers FROM ") + table + " WHERE participant_id = ?";
+  Statement s(db_, sql.c_str(), path_);
+  s.bind(1, participant);
+  return s.step() ? s.text(0) : std::string();
+}
+
+void ReviewStore::set_questionnaire(std::int64_t participant, const std::string& json) {
+  set_answers("questionnaire", participant, json);
 }
 
 std::string ReviewStore::questionnaire(std::int64_t participant) const {
-  std::lock_guard lock(mutex_);
-  Statement s(db_, "SELECT answers FROM questionnaire WHERE participant_id = ?", path_);
-  s.bind(1, participant);
-  return s.step() ? s.text(0) : std::string();
+  return answers("questionnaire", participant);
 }
 
 void ReviewStore::set_free_text(std::int64_t participant, const std::string& json) {
-  std::lock_guard lock(mutex_);
-  Transaction tx(db_, path_);
-  Statement(db_,
-            "INSERT INTO free_text (participant_id, answers, updated_at) VALUES (?, ?, ?) "
-            "ON CONFLICT (participant_id) DO UPDATE SET answers = excluded.answers, "
-            "updated_at = excluded.updated_at",
-            path_)
-      .bind(1, participant)
-      .bind(2, json)
-      .bind(3, now_utc())
-      .run();
-  tx.commit();
+  set_answers("free_text", participant, json);
 }
 
 std::string ReviewStore::free_text(std::int64_t participant) const {
-  std::lock_guard lock(mutex_);
-  Statement s(db_, "SELECT answers FROM free_text WHERE participant_id = ?", path_);
-  s.bind(1, participant);
-  return s.step() ? s.text(0) : std::string();
+  return answers("free_text", participant);
 }
 
 void ReviewStore::save_rating(const Rating& r) {

@@ -90,6 +90,8 @@ class ReviewStore {
 
  private:
   std::string meta(const std::string& key) const;
+  void set_answers(const char* table, std::int64_t participant, const std::string& json);
+  std::string answers(const char* table, std::int64_t participant) const;
   std::filesystem::path path_;
   sqlite3* db_ = nullptr;
   mutable std::mutex mutex_;
