@@ -2,7 +2,9 @@
 # CTest `blender_import` (label `blender`): exports seated clips with `wheelpose motion` as fbx,
 # glb and bvh, converts every fbx with FBX2glTF (npm fbx2gltf, built on the Autodesk FBX SDK: the
 # reader Unity and Autodesk tools use) to <clip>.sdk.glb sampled at 60 fps, then imports every
-# file into Debian's Blender (headless) with check_imports.py.
+# file into Debian's Blender (headless) with check_imports.py. Then a dressed person with a cane,
+# rigged and animated by one of those clips (`body export --rigged`), is imported and checked
+# against the same person's static exports at two frames with check_rigged_person.py.
 # Usage: run.sh WHEELPOSE_BINARY SHARED_DIR
 # Exits 77 (CTest: skipped) when blender is not installed, except under CI, where that fails; the
 # same for FBX2glTF (`npm ci` in tests/blender, which scripts/setup.sh runs).
@@ -40,4 +42,18 @@ elif [ -n "${CI:-}" ]; then
 else
   echo "blender_import: FBX SDK check skipped: FBX2glTF is missing (npm ci in tests/blender)"
 fi
-blender -b --factory-startup --python "$here/check_imports.py" -- "$out"
+status=0
+blender -b --factory-startup --python "$here/check_imports.py" -- "$out" || status=1
+
+person=(--seed 4 --assets "$shared/assets" --params wheelchair=manual mobility_aid=cane
+        wear=clothes/male_casualsuit01 wear=clothes/shoes01 wear=hair/short02)
+clip="$out/basketball_chest_pass.json"
+"$wheelpose" -q body export --rigged "${person[@]}" --clip "$clip" --out "$out/person.glb"
+# Frame 40 of a 30 fps clip is a whole frame (32) of Blender's default 24 fps scene.
+for frame in 0 40; do
+  "$wheelpose" -q body export "${person[@]}" --clip "$clip" --frame "$frame" \
+    --out "$out/person_$frame.glb"
+done
+blender -b --factory-startup --python "$here/check_rigged_person.py" -- "$out/person.glb" \
+  "$clip" "$out/person_0.glb" 0 "$out/person_40.glb" 40 || status=1
+exit $status
