@@ -42,9 +42,11 @@ if [ ! -d "$browser_tests/node_modules/playwright-core" ]; then
 fi
 
 # The Blender import test also reads every exported FBX with FBX2glTF (npm fbx2gltf, a prebuilt
-# converter on the Autodesk FBX SDK), pinned by tests/blender/package-lock.json.
+# converter on the Autodesk FBX SDK), and the gltf_validator test checks every glb with the Khronos
+# validator (npm gltf-validator), both pinned by tests/blender/package-lock.json.
 blender_tests="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/tests/blender"
-if [ ! -d "$blender_tests/node_modules/fbx2gltf" ]; then
+if [ ! -d "$blender_tests/node_modules/fbx2gltf" ] ||
+   [ ! -d "$blender_tests/node_modules/gltf-validator" ]; then
   echo "setup: npm ci in tests/blender"
   (cd "$blender_tests" && npm ci --no-audit --no-fund)
 fi
