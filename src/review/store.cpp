@@ -388,11 +388,7 @@ void ReviewStore::set_answers(const char* table, std::int64_t participant,
                           " (participant_id, answers, updated_at) VALUES (?, ?, ?) "
                           "ON CONFLICT (participant_id) DO UPDATE SET "
                           "answers = excluded.answers, updated_at = excluded.updated_at";
-  Statement(db_, sql.c_str(), path_)
-      .bind(1, participant)
-      .bind(2, json)
-      .bind(3, now_utc())
-      .run();
+  Statement(db_, sql.c_str(), path_).bind(1, participant).bind(2, json).bind(3, now_utc()).run();
   tx.commit();
 }
 
