@@ -12,29 +12,42 @@
 # configs/boost-standing.yaml, and, with --real, the user's own COCO person keypoints), to show
 # what fine-tuning costs on ordinary people.
 #
-# usage: scripts/boost.sh [--quick] [--ablate] [--real COCO.json] [OUT (default out/boost)]
+# usage: scripts/boost.sh [--quick] [--ablate] [--mix-standing] [--real COCO.json]
+#                         [--ranking RANKING.json] [OUT]
+#   OUT: the experiment's folder (default out/boost)
 #   --quick: a few frames and steps (a smoke test of the whole chain, minutes on 2 cores)
 #   --ablate: also the training-set size ablation (scripts/ablate.sh; hours at full size)
+#   --mix-standing: also a run with standing people mixed into training (scripts/standing-mix.sh)
 #   --real COCO.json: real people's keypoints (images in images/ beside it, or beside it)
+#   --ranking RANKING.json: train only on the training clips that `wheelpose review filter` kept
+#     (the review-filter ablation is a run with and a run without it, into two OUT folders)
 # Environment overrides: TRAIN_FRAMES, VAL_FRAMES, TEST_FRAMES, STANDING_FRAMES, STEPS, BATCH, LR,
-# FREEZE, VAL_EVERY, EXTRA_TRAIN_ARGS, ABLATION_SIZES.
+# FREEZE, VAL_EVERY, EXTRA_TRAIN_ARGS, ABLATION_SIZES, STANDING_TRAIN_FRAMES, STANDING_WEIGHT.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 wp="$root/build/release/wheelpose"
 quick=0
 ablate=0
+mix_standing=0
 real=""
+ranking=""
 out=out/boost
 while (($#)); do
   case "$1" in
     --quick) quick=1 ;;
     --ablate) ablate=1 ;;
+    --mix-standing) mix_standing=1 ;;
     --real)
       [[ $# -ge 2 ]] || { echo "boost: --real needs a COCO file" >&2; exit 2; }
       real=$2
       shift
       ;;
-    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
+    --ranking)
+      [[ $# -ge 2 ]] || { echo "boost: --ranking needs a ranking.json" >&2; exit 2; }
+      ranking=$2
+      shift
+      ;;
+    -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
     -*) echo "boost: unknown option $1 (see --help)" >&2; exit 2 ;;
     *) out="$1" ;;
   esac
@@ -51,7 +64,7 @@ if ((quick)); then
   train_frames=${TRAIN_FRAMES:-24} val_frames=${VAL_FRAMES:-4} test_frames=${TEST_FRAMES:-8}
   standing_frames=${STANDING_FRAMES:-4}
   steps=${STEPS:-16} batch=${BATCH:-4} val_every=${VAL_EVERY:-8} size_args="--input-size 128"
-  export ABLATION_SIZES=${ABLATION_SIZES:-8 16}
+  export ABLATION_SIZES=${ABLATION_SIZES:-8 16} STANDING_TRAIN_FRAMES=${STANDING_TRAIN_FRAMES:-4}
 else
   train_frames=${TRAIN_FRAMES:-5000} val_frames=${VAL_FRAMES:-200} test_frames=${TEST_FRAMES:-500}
   standing_frames=${STANDING_FRAMES:-300}
@@ -59,7 +72,29 @@ else
 fi
 lr=${LR:-1e-4}
 freeze=${FREEZE:-0}
+
+# The training clips: configs/boost-train-clips.json, or those of them a review ranking keeps.
+train_clips="$root/configs/boost-train-clips.json"
+clips_note="the clips of configs/boost-train-clips.json"
+if [[ -n $ranking ]]; then
+  [[ -f $ranking ]] || { echo "boost: --ranking $ranking: no such file" >&2; exit 2; }
+  jq -e '.kept | arrays' "$ranking" >/dev/null 2>&1 ||
+    { echo "boost: --ranking $ranking: not a ranking.json (no \"kept\" list)" >&2; exit 2; }
+  filtered=$(jq --slurpfile ranking "$ranking" --arg from "$ranking" '
+    [$ranking[0].kept[].id] as $kept
+    | .kept |= map(select(.id as $id | $kept | index($id)))
+    | .note = "The training clips of configs/boost-train-clips.json that \($from) keeps."
+  ' "$train_clips")
+  kept=$(jq '.kept | length' <<<"$filtered")
+  ((kept > 0)) || { echo "boost: --ranking $ranking keeps none of the training clips" >&2; exit 2; }
+  clips_note="the $kept of configs/boost-train-clips.json's $(jq '.kept | length' "$train_clips") clips that $ranking keeps"
+  train_clips="$out/train-clips.json"
+fi
 mkdir -p "$out"
+if [[ -n $ranking ]]; then
+  echo "$filtered" >"$train_clips.tmp"
+  mv "$train_clips.tmp" "$train_clips"
+fi
 log() { echo "boost: $*" >&2; }
 timed() {  # timed NAME command...: runs it, appends "NAME seconds" to OUT/times.txt
   local name=$1 start end
@@ -73,6 +108,7 @@ timed() {  # timed NAME command...: runs it, appends "NAME seconds" to OUT/times
 # Seeds differ between the sets, so no frame, scene or person draw is shared; clips, the sport
 # wheelchair and forearm crutches are held out of training by content. The standing people play
 # the held-out clips too.
+declare -A clip_files=([train]="$train_clips" [test]="$root/configs/boost-test-clips.json")
 for set in train val test standing; do
   frames=$train_frames seed=101 config=(--config "$root/configs/boost-train.yaml") clips=train
   if [[ $set == val ]]; then frames=$val_frames seed=303; fi
@@ -86,7 +122,7 @@ for set in train val test standing; do
     resume=""
     [[ -d "$out/$set" ]] && resume="--resume"
     timed "generate_$set" "$wp" -q generate --out "$out/$set" --frames "$frames" --seed "$seed" \
-      "${config[@]}" --clips-from "$root/configs/boost-$clips-clips.json" $resume
+      "${config[@]}" --clips-from "${clip_files[$clips]}" $resume
   fi
 done
 
@@ -97,6 +133,12 @@ shared_clips=$(jq -n --slurpfile a "$out/train/annotations.json" \
 train_held=$(jq '[.annotations[] | select(.wheelchair_type == "sport" or .mobility_aid == "crutches")] | length' "$out/train/annotations.json")
 if [[ $shared_clips != 0 || $train_held != 0 ]]; then
   echo "boost: the training set shares $shared_clips clip(s) with the test set and has $train_held sport-chair/crutches people" >&2
+  exit 1
+fi
+# A training set from an earlier run with other clips (e.g. before --ranking) is not reused.
+foreign=$(jq -r --slurpfile clips "$train_clips" '[.annotations[].motion_id] - [$clips[0].kept[].id] | unique | join(", ")' "$out/train/annotations.json")
+if [[ -n $foreign ]]; then
+  echo "boost: $out/train plays clips $train_clips does not keep ($foreign): use another OUT" >&2
   exit 1
 fi
 # Held-out clothes and hair, when the labels record assets (datasets generated before they did
@@ -150,6 +192,7 @@ log "scoring both models on people without wheelchairs"
 score_both standing "$out/standing/annotations.json" "$out/standing/images"
 if [[ -n $real ]]; then score_both real "$real" "$real_images"; fi
 if ((ablate)); then "$root/scripts/ablate.sh" "$out"; fi
+if ((mix_standing)); then "$root/scripts/standing-mix.sh" "$out"; fi
 
 # The same test images before (red) and after (green) fine-tuning, over white GT: evenly spread
 # ones, and those where the fine-tuned model does worst.
@@ -177,8 +220,8 @@ last_loss=$(awk -F, 'NR>1 {n++; if (n > 0) v[n]=$3} END {s=0; k=0; for (i=n; i>n
 {
   echo "# Model boosting on synthetic wheelchair users"
   echo
-  echo "Training set: $train_frames generated frames (seed 101, configs/boost-train.yaml, the"
-  echo "clips of configs/boost-train-clips.json); test set: $test_frames frames (seed 202, paper"
+  echo "Training set: $train_frames generated frames (seed 101, configs/boost-train.yaml,"
+  echo "$clips_note); test set: $test_frames frames (seed 202, paper"
   echo "preset, the 12 held-out clips). No clip is shared (checked on the labels); $test_held test"
   echo "people sit in the sport wheelchair or use forearm crutches, which training never drew;"
   echo "$assets_note. Model: MoveNet MultiPose, fine-tuned $steps steps ×"
@@ -205,6 +248,10 @@ last_loss=$(awk -F, 'NR>1 {n++; if (n > 0) v[n]=$3} END {s=0; k=0; for (i=n; i>n
     table4 "$out/real-eval"
   fi
   echo
+  if [[ -f "$out/standing-mix.md" ]] && ((mix_standing)); then
+    cat "$out/standing-mix.md"
+    echo
+  fi
   if [[ -f "$out/ablation.md" ]] && ((ablate)); then
     cat "$out/ablation.md"
     echo

@@ -2,12 +2,14 @@
 // training and a held-out test set, scores the pretrained model, fine-tunes it, scores it again
 // (validating and keeping the best weights), scores both on people without wheelchairs
 // (generated standing people and the real COCO sample), runs the training-set size ablation and
-// writes the report as Markdown and HTML.
+// the run with standing people mixed into training, and writes the report as Markdown and HTML.
 
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "cli_runner.h"
@@ -19,6 +21,12 @@ using wheelpose::testing::fresh_temp_dir;
 using wheelpose::testing::read_text;
 using wheelpose::testing::write_coco_sample_gt;
 
+std::size_t count_of(const std::string& text, const std::string& part) {
+  std::size_t n = 0;
+  for (auto at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++n;
+  return n;
+}
+
 TEST(BoostScript, QuickRunWritesTheComparison) {
   if (!fs::exists(fs::path(WHEELPOSE_SOURCE_DIR) / "models" / "movenet-multipose.json")) {
     GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
@@ -26,13 +34,29 @@ TEST(BoostScript, QuickRunWritesTheComparison) {
   const fs::path dir = fresh_temp_dir("boost_quick");
   fs::create_directories(dir / "real");
   const fs::path real = write_coco_sample_gt(dir / "real", /*copy_image=*/true);
+  // A review ranking that drops the first training clip: training must never play it.
+  const fs::path source = WHEELPOSE_SOURCE_DIR;
+  auto clips = nlohmann::json::parse(read_text(source / "configs" / "boost-train-clips.json"));
+  const std::string dropped = clips["kept"][0]["id"];
+  clips["kept"].erase(0);
+  const std::size_t kept = clips["kept"].size();
+  const fs::path ranking = dir / "ranking.json";
+  std::ofstream(ranking) << clips.dump();
   const fs::path out = dir / "run";
-  const std::string command = "bash " + std::string(WHEELPOSE_SOURCE_DIR) +
-                              "/scripts/boost.sh --quick --ablate --real " + real.string() + " " +
-                              out.string() + " > " + (out.parent_path() / "log.txt").string() +
-                              " 2>&1";
-  ASSERT_EQ(std::system(command.c_str()), 0) << read_text(out.parent_path() / "log.txt");
+  const std::string command = "bash " + (source / "scripts" / "boost.sh").string() +
+                              " --quick --ablate --mix-standing --ranking " + ranking.string() +
+                              " --real " + real.string() + " " + out.string() + " > " +
+                              (dir / "log.txt").string() + " 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0) << read_text(dir / "log.txt");
   const std::string report = read_text(out / "report.md");
+  EXPECT_NE(report.find("the " + std::to_string(kept) + " of configs/boost-train-clips.json's " +
+                        std::to_string(kept + 1) + " clips that"),
+            std::string::npos)
+      << report;
+  for (const char* set : {"train", "val", "standing-train"}) {
+    const auto labels = nlohmann::json::parse(read_text(out / set / "annotations.json"));
+    for (const auto& person : labels["annotations"]) EXPECT_NE(person["motion_id"], dropped) << set;
+  }
   EXPECT_NE(report.find("| KP AP | "), std::string::npos) << report;
   EXPECT_NE(report.find("| BB AP | "), std::string::npos) << report;
   EXPECT_NE(report.find("No clip is shared"), std::string::npos) << report;
@@ -55,6 +79,12 @@ TEST(BoostScript, QuickRunWritesTheComparison) {
   EXPECT_NE(report.find("## Ablation: training-set size"), std::string::npos) << report;
   for (const char* row : {"| 8 | ", "| 16 | ", "| 24 | "})
     EXPECT_NE(report.find(row), std::string::npos) << row << "\n" << report;
+  // Standing people mixed into training: both held-out sets scored for the three models.
+  EXPECT_NE(report.find("## Keeping ordinary people"), std::string::npos) << report;
+  for (const char* scored :
+       {"test-finetuned-standing-mix.json", "standing-finetuned-standing-mix.json"})
+    EXPECT_TRUE(fs::exists(out / scored)) << scored;
+  EXPECT_EQ(count_of(report, "| fine-tuned, standing mixed in | "), 2u) << report;
 }
 
 }  // namespace
