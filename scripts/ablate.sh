@@ -18,13 +18,11 @@ for f in run/options.json run/done finetuned.json test/annotations.json; do
 done
 
 # The main run's settings, so that only the training set's size differs.
+# shellcheck source=lib/boost-run.sh
+source "$root/scripts/lib/boost-run.sh"
+main_run_args
 opt() { jq -r "$1" "$out/run/options.json"; }
 full_size=$(jq '.images | length' "$out/train/annotations.json")
-train_args=(--steps "$(opt .steps)" --batch "$(opt .batch)" --lr "$(opt .learning_rate)"
-  --weight-decay "$(opt .weight_decay)" --warmup "$(opt .warmup_steps)"
-  --freeze-backbone "$(opt .freeze_backbone_steps)" --backbone-lr-scale "$(opt .backbone_lr_scale)"
-  --clip "$(opt .clip_norm)" --input-size "$(opt '.augment[0]')" --seed "$(opt .seed)"
-  --val "$(opt .val)" --val-every "$(opt .val_every)" --val-size "$(opt .val_size)")
 
 for n in $sizes; do
   if ((n >= full_size)); then
@@ -51,14 +49,7 @@ for n in $sizes; do
 done
 
 # One row per training-set size: test-set AP of that run's best weights, in points.
-row() {  # row LABEL DETECTIONS STEP
-  "$wp" -q eval --gt "$out/test/annotations.json" --dt "$2" --type both --out "$out/ablation-eval" \
-    >/dev/null
-  jq -r --arg name "$1" --arg step "$3" '
-    def p(x): x * 1000 | round / 10 | tostring;
-    "| \($name) | \($step) | \(p(.results.keypoints.stats.AP)) | \(p(.results.keypoints.stats.AP50)) | \(p(.results.keypoints.stats.AR)) | \(p(.results.bbox.stats.AP)) | \(p(.results.bbox.stats.AP50)) |"
-  ' "$out/ablation-eval/metrics.json"
-}
+row() { ap_row "$1" "$out/test/annotations.json" "$2" "$3"; }  # row LABEL DETECTIONS STEP
 {
   echo "## Ablation: training-set size"
   echo
