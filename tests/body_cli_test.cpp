@@ -4,6 +4,7 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <set>
 
@@ -104,18 +105,30 @@ TEST(BodyCli, PosesPersonByASeatedClipFrame) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::string clip = (dir / "131_01.json").string();
   std::vector<nlohmann::json> wrists;
+  std::vector<cv::Mat> portraits;
   for (int frame : {0, 60}) {
     const auto out = dir / ("f" + std::to_string(frame) + ".glb");
+    const auto portrait = dir / ("f" + std::to_string(frame) + ".png");
     r = run_wheelpose("body export --seed 1 --clip " + clip + " --frame " + std::to_string(frame) +
-                      " --out " + out.string() + kAssets);
+                      " --out " + out.string() + " --portrait " + portrait.string() + kAssets);
     ASSERT_EQ(r.exit_code, 0) << r.output;
     auto json = nlohmann::json::parse(read_text(dir / ("f" + std::to_string(frame) + ".json")));
     wrists.push_back(json["coco_keypoints"]["left_wrist"]);
+    portraits.push_back(cv::imread(portrait.string(), cv::IMREAD_COLOR));
+    ASSERT_EQ(portraits.back().size(), cv::Size(512, 512));
+    cv::Scalar mean, stddev;
+    cv::meanStdDev(portraits.back(), mean, stddev);
+    EXPECT_GT(stddev[0], 10.0);  // somebody is in the picture
   }
-  EXPECT_NE(wrists[0], wrists[1]);  // the arm moves with the clip
+  EXPECT_NE(wrists[0], wrists[1]);                                    // the arm moves with the clip
+  EXPECT_GT(cv::norm(portraits[0], portraits[1], cv::NORM_L1), 0.0);  // and so does the picture
   r = run_wheelpose("body export --seed 1 --clip " + clip + " --frame 100000 --out " +
                     (dir / "x.glb").string() + kAssets);
   EXPECT_EQ(r.exit_code, 2) << r.output;
+  r = run_wheelpose("body export --rigged --clip " + clip + " --portrait " +
+                    (dir / "x.png").string() + " --out " + (dir / "x.glb").string() + kAssets);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.png"));
 }
 
 }  // namespace

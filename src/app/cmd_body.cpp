@@ -38,6 +38,7 @@ struct BodyOptions {
   bool empty = false;
   bool cc_by = false;
   bool rigged = false;
+  std::string portrait;  // PNG of the exported person in our renderer
 };
 
 fs::path json_beside(const fs::path& glb) {
@@ -64,6 +65,9 @@ void run_export(const BodyOptions& o) {
   if (o.rigged && (o.cc_by || o.empty))
     throw Error(
         "body export: --rigged exports a person, not --empty-wheelchair or --cc-by-wheelchair");
+  if (!o.portrait.empty() && (o.rigged || o.cc_by || o.empty))
+    throw Error(
+        "body export: --portrait renders a posed person, not --rigged or a wheelchair alone");
   if (o.cc_by) {
     body::write_cc_by_wheelchair_glb(o.out);
     spdlog::info("wrote {} (credit: {})", o.out, body::kCcByWheelchairCredit);
@@ -102,6 +106,12 @@ void run_export(const BodyOptions& o) {
   const body::BodyData data(body::locate_assets(explicit_assets(o)));
   write_person(data, spec, o.out);
   spdlog::info("wrote {} and {}", o.out, json_beside(o.out).string());
+  if (!o.portrait.empty()) {
+    constexpr int kPortraitSize = 512, kPortraitSpp = 16;
+    write_file_atomic(o.portrait, render::encode_png(generate::render_portrait(
+                                      data, spec, kPortraitSize, kPortraitSpp)));
+    spdlog::info("wrote {}", o.portrait);
+  }
 }
 
 void run_sample(const BodyOptions& o) {
@@ -152,6 +162,9 @@ void attach_body(CLI::App& parent) {
                 "Skinned to the rig and animated by the whole --clip (glb with joints, skin "
                 "weights and the clip as an animation)")
       ->excludes(frame);
+  exp->add_option("--portrait", options->portrait,
+                  "Also render the person with our ray tracer (512² PNG, as `body sample`'s "
+                  "contact sheet)");
   exp->add_flag("--empty-wheelchair", options->empty, "Only the wheelchair, nobody in it");
   exp->add_flag("--cc-by-wheelchair", options->cc_by,
                 "Only the CC-BY \"Wheel Chair\" by bgamage (sweethome3d-furniture)");
