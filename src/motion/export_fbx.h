@@ -1,6 +1,7 @@
 #pragma once
 // FBX 7.4 export of a SkeletalMotion, binary (the default: Blender, Unity and the Autodesk FBX
-// SDK read it) or ASCII, both from one document (fbx_document) so they say the same thing. The
+// SDK read it) or ASCII, both from one document (fbx_document, built with fbx_scene.h) so they
+// say the same thing. The
 // scene is the glb's (export_gltf.h): a "wheelpose_root" Null holding the 23 joints as LimbNode
 // models with their rest offsets and the skinned "stick_figure" mesh, plus one animation stack
 // named after the motion with
@@ -19,12 +20,12 @@
 #include <vector>
 
 #include "motion/clip.h"
-#include "motion/fbx_node.h"
+#include "motion/fbx_scene.h"
 
 namespace wheelpose::motion {
 
-enum class FbxEncoding { kBinary, kAscii };
-inline constexpr std::uint32_t kFbxVersion = 7400;
+using FbxEncoding = fbx::Encoding;
+inline constexpr std::uint32_t kFbxVersion = fbx::kVersion;
 
 // Throws Error (bad input) naming the motion when FBX cannot hold it: the checks of
 // check_exportable (no frames, fps not positive or NaN, ...), a rate outside fbx_time.h's range,

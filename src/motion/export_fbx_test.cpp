@@ -17,6 +17,7 @@
 #include "motion/euler_curves.h"
 #include "motion/export_test_support.h"
 #include "motion/fbx_test_reader.h"
+#include "motion/fbx_test_scene.h"
 #include "motion/fbx_time.h"
 #include "motion/library.h"
 #include "motion/pipeline.h"
@@ -29,133 +30,23 @@ namespace {
 using export_test::make_test_motion;
 using export_test::temp_dir;
 using fbx::Node;
+using fbx::testing::child;
+using fbx::testing::FbxScene;
+using fbx::testing::name_of;
+using fbx::testing::property;
+using fbx::testing::top;
+using fbx::testing::value;
+using fbx::testing::world_transforms;
 
 constexpr double kDegrees = 180.0 / std::numbers::pi;
 
-const Node& child(const Node& node, std::string_view name) {
-  const Node* found = node.find(name);
-  if (found == nullptr) throw std::runtime_error("no " + std::string(name) + " in " + node.name);
-  return *found;
-}
-
-const Node& top(const std::vector<Node>& document, std::string_view name) {
-  for (const Node& node : document) {
-    if (node.name == name) return node;
-  }
-  throw std::runtime_error("no top-level " + std::string(name));
-}
-
-template <typename T>
-const T& value(const Node& node, std::size_t i = 0) {
-  return std::get<T>(node.properties.at(i));
-}
-
-// The P entry called `name` in a Properties70 node.
-const Node& property(const Node& properties70, std::string_view name) {
-  for (const Node& p : properties70.children) {
-    if (value<std::string>(p) == name) return p;
-  }
-  throw std::runtime_error("no property " + std::string(name));
-}
-
-// Objects by id, and connections, of a document: enough to play its animation back.
-struct FbxScene {
-  std::vector<Node> document;
-  std::map<std::int64_t, const Node*> objects;
-  struct Link {
-    std::int64_t child, parent;
-    std::string property;
-  };
-  std::vector<Link> links;
-
-  FbxScene(const FbxScene&) = delete;  // objects point into document
-  explicit FbxScene(std::vector<Node> nodes) : document(std::move(nodes)) {
-    for (const Node& object : top(document, "Objects").children) {
-      objects[value<std::int64_t>(object)] = &object;
-    }
-    for (const Node& c : top(document, "Connections").children) {
-      links.push_back({value<std::int64_t>(c, 1), value<std::int64_t>(c, 2),
-                       c.properties.size() > 3 ? value<std::string>(c, 3) : ""});
-    }
-  }
-  std::vector<const Node*> of_type(std::string_view type) const {
-    std::vector<const Node*> found;
-    for (const auto& [id, node] : objects) {
-      if (node->name == type) found.push_back(node);
-    }
-    return found;
-  }
-  // The object of type `type` linked to `parent` (through `link_property`, if given).
-  std::vector<std::pair<const Node*, std::string>> children_of(std::int64_t parent,
-                                                               std::string_view type) const {
-    std::vector<std::pair<const Node*, std::string>> found;
-    for (const Link& link : links) {
-      if (link.parent == parent && objects.count(link.child) &&
-          objects.at(link.child)->name == type) {
-        found.emplace_back(objects.at(link.child), link.property);
-      }
-    }
-    return found;
-  }
-  std::int64_t parent_of(std::int64_t child) const {
-    for (const Link& link : links) {
-      if (link.child == child && link.property.empty()) return link.parent;
-    }
-    return -1;
-  }
-};
-
-std::string name_of(const Node& object) {
-  const std::string& full = value<std::string>(object, 1);
-  return full.substr(0, full.find('\0'));
-}
-
-// Linear interpolation of one AnimationCurve at `tick`, held before the first and after the last
-// key: what an FBX reader does with KeyAttrFlags 24836.
-double evaluate(const Node& curve, std::int64_t tick) {
-  const auto& times = value<std::vector<std::int64_t>>(child(curve, "KeyTime"));
-  const auto& values = value<std::vector<float>>(child(curve, "KeyValueFloat"));
-  if (tick <= times.front()) return values.front();
-  if (tick >= times.back()) return values.back();
-  const std::size_t k = static_cast<std::size_t>(
-      std::upper_bound(times.begin(), times.end(), tick) - times.begin() - 1);
-  const double w =
-      static_cast<double>(tick - times[k]) / static_cast<double>(times[k + 1] - times[k]);
-  return values[k] + w * (values[k + 1] - values[k]);
-}
-
 // World positions of the joints at `tick`, evaluating the curves as the FBX SDK would.
 Pose play(const FbxScene& scene, std::int64_t tick) {
-  std::map<std::int64_t, Eigen::Isometry3d> world;
+  const auto world = world_transforms(scene, tick);
   Pose pose;
-  std::function<Eigen::Isometry3d(std::int64_t)> world_of = [&](std::int64_t id) {
-    if (id == 0) return Eigen::Isometry3d::Identity();
-    if (auto it = world.find(id); it != world.end()) return it->second;
-    const Node& model = *scene.objects.at(id);
-    const Node& p = child(model, "Properties70");
-    const auto& t = property(p, "Lcl Translation");
-    Eigen::Vector3d translation(value<double>(t, 4), value<double>(t, 5), value<double>(t, 6));
-    Eigen::Vector3d rotation = Eigen::Vector3d::Zero();
-    for (const auto& [curve_node, target] : scene.children_of(id, "AnimationCurveNode")) {
-      Eigen::Vector3d v;
-      for (const auto& [curve, channel] :
-           scene.children_of(value<std::int64_t>(*curve_node), "AnimationCurve")) {
-        v[channel.back() - 'X'] = evaluate(*curve, tick);
-      }
-      (target == "Lcl Translation" ? translation : rotation) = v;
-    }
-    const auto order =
-        static_cast<EulerOrder>(value<std::int32_t>(property(p, "RotationOrder"), 4));
-    Eigen::Isometry3d local = Eigen::Isometry3d::Identity();
-    local.translate(translation);
-    local.rotate(euler_rotation(rotation / kDegrees, order));
-    const Eigen::Isometry3d result = world_of(scene.parent_of(id)) * local;
-    world[id] = result;
-    return result;
-  };
   for (const Node* model : scene.of_type("Model")) {
     if (auto joint = joint_from_name(name_of(*model))) {
-      pose[*joint] = world_of(value<std::int64_t>(*model)).translation();
+      pose[*joint] = world.at(value<std::int64_t>(*model)).translation();
     }
   }
   return pose;
