@@ -202,6 +202,11 @@ TEST(BodyCli, RiggedExportAnimatesTheSkinnedPersonByTheClip) {
   // The description beside it is the first frame's person.
   const auto json = nlohmann::json::parse(read_text(dir / "a.json"));
   EXPECT_EQ(json["coco_keypoints"].size(), 17u);
+  // The same person as binary FBX, chosen by the extension (rigged_fbx_test.cpp checks its
+  // content; tests/blender imports it).
+  const CliResult r = run_wheelpose(args + " --out " + (dir / "a.fbx").string() + kAssets);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(read_text(dir / "a.fbx").substr(0, 20), "Kaydara FBX Binary  ");
 }
 
 TEST(BodyCli, RiggedExportRefusesBadInputWithoutWritingAFile) {
@@ -220,6 +225,11 @@ TEST(BodyCli, RiggedExportRefusesBadInputWithoutWritingAFile) {
   r = run_wheelpose("body export --rigged --clip /nonexistent.json --out " + out.string() +
                     kAssets);
   EXPECT_EQ(r.exit_code, 2) << r.output;
+  r = run_wheelpose("body export --rigged --clip " + short_clip(dir, 4).string() + " --out " +
+                    (dir / "x.obj").string() + kAssets);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("must end in .glb or .fbx"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.obj"));
   EXPECT_FALSE(std::filesystem::exists(out));
   EXPECT_FALSE(std::filesystem::exists(dir / "x.json"));
 }

@@ -14,6 +14,7 @@
 #include "body/assets.h"
 #include "body/person.h"
 #include "body/person_animation.h"
+#include "body/rigged_fbx.h"
 #include "body/rigged_glb.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -86,10 +87,18 @@ void run_export(const BodyOptions& o) {
   }
   if (o.rigged) {
     if (o.clip.empty()) throw Error("body export: --rigged needs --clip (the motion to animate)");
+    const std::string extension = fs::path(o.out).extension().string();
+    if (extension != ".glb" && extension != ".fbx")
+      throw Error("body export: --rigged --out " + o.out +
+                  ": the file name must end in .glb or .fbx (the format written)");
     const motion::SeatedClip clip = motion::read_seated_clip_json(o.clip);
     const body::BodyData data(body::locate_assets(explicit_assets(o)));
     const body::PersonAnimation animation = body::animate_person(data, spec, clip.motion);
-    body::write_rigged_person_glb(animation, data, o.out);
+    if (extension == ".fbx") {
+      body::write_rigged_person_fbx(animation, data, o.out);
+    } else {
+      body::write_rigged_person_glb(animation, data, o.out);
+    }
     write_file_atomic(json_beside(o.out), animation.person.description.dump(2) + "\n");
     spdlog::info("wrote {} ({} frames) and {}", o.out, animation.frames.size(),
                  json_beside(o.out).string());
@@ -159,8 +168,8 @@ void attach_body(CLI::App& parent) {
   exp->add_option("--clip", options->clip, "Seated clip JSON (wheelpose motion output)");
   CLI::Option* frame = exp->add_option("--frame", options->frame, "Frame of the clip");
   exp->add_flag("--rigged", options->rigged,
-                "Skinned to the rig and animated by the whole --clip (glb with joints, skin "
-                "weights and the clip as an animation)")
+                "Skinned to the rig and animated by the whole --clip (joints, skin weights and "
+                "the clip as an animation; glb or binary FBX by --out's extension)")
       ->excludes(frame);
   exp->add_option("--portrait", options->portrait,
                   "Also render the person with our ray tracer (512² PNG, as `body sample`'s "

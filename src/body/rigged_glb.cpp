@@ -3,14 +3,12 @@
 #include <assimp/material.h>
 #include <assimp/scene.h>
 
-#include <functional>
 #include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "body/glb_parts.h"
-#include "body/skin_weights.h"
+#include "body/rigged_parts.h"
 #include "core/error.h"
 #include "motion/glb_file.h"
 
@@ -20,26 +18,6 @@ namespace {
 
 using motion::GlbBuilder;
 using Json = nlohmann::ordered_json;
-
-// A hand-held aid's primitives by the hand nearest each (hand bone index, primitives), moved
-// from the first frame's pose into the hand's rest frame; skinning carries them back.
-std::vector<std::pair<int, std::vector<Primitive>>> aid_in_hands(const Person& person,
-                                                                 const Rig& rig) {
-  const int hands[2] = {rig.bone("hand_l"), rig.bone("hand_r")};
-  std::vector<std::pair<int, std::vector<Primitive>>> out = {{hands[0], {}}, {hands[1], {}}};
-  for (const Primitive& part : person.aid.parts) {
-    const float left = (part.centre - person.posed_bones.head[hands[0]]).squaredNorm();
-    const float right = (part.centre - person.posed_bones.head[hands[1]]).squaredNorm();
-    auto& [bone, prims] = out[left <= right ? 0 : 1];
-    const Eigen::Matrix3f to_rest = person.pose.rotation[bone].conjugate().toRotationMatrix();
-    Primitive rest = part;
-    rest.centre =
-        person.rest_bones.head[bone] + to_rest * (part.centre - person.posed_bones.head[bone]);
-    rest.axes = to_rest * part.axes;
-    prims.push_back(rest);
-  }
-  return out;
-}
 
 Json vec3(const Eigen::Vector3f& v) { return Json::array({v.x(), v.y(), v.z()}); }
 
@@ -127,9 +105,7 @@ Json animation_json(GlbBuilder& glb, const PersonAnimation& animation, const Rig
     std::vector<float> rotations;
     Eigen::Quaternionf previous = Eigen::Quaternionf::Identity();
     for (const RigPose& pose : animation.frames) {
-      // RigPose rotations are global; a joint node turns relative to its parent.
-      Eigen::Quaternionf q =
-          (p < 0 ? pose.rotation[b] : pose.rotation[p].conjugate() * pose.rotation[b]).normalized();
+      Eigen::Quaternionf q = local_rotation(rig, pose, b);
       // The sign nearest the previous key, so linear blending takes the short way.
       if (q.dot(previous) < 0) q.coeffs() = -q.coeffs();
       previous = q;
@@ -139,7 +115,7 @@ Json animation_json(GlbBuilder& glb, const PersonAnimation& animation, const Rig
     if (p >= 0) continue;  // other joints keep their rest offset from their parent
     std::vector<float> translations;
     for (const RigPose& pose : animation.frames) {
-      const Eigen::Vector3f t = rest.head[b] + pose.root_offset;
+      const Eigen::Vector3f t = root_translation(rest, pose, b);
       translations.insert(translations.end(), {t.x(), t.y(), t.z()});
     }
     add(translations, "VEC3", node, "translation");
@@ -155,35 +131,10 @@ void write_rigged_person_glb(const PersonAnimation& animation, const BodyData& d
                              const std::filesystem::path& path) {
   WHEELPOSE_CHECK(!animation.frames.empty());
   const Rig& rig = data.rig();
-  const Person& person = animation.person;
-  const BoneFrames& rest = person.rest_bones;
-  SceneParts parts;
-  std::vector<std::optional<SkinWeights>> skins;  // per mesh; none for the chair
-  auto skin_new_meshes = [&](const std::function<SkinWeights(const aiMesh&)>& weights) {
-    for (std::size_t m = skins.size(); m < parts.meshes.size(); ++m)
-      skins.push_back(weights ? std::optional(weights(*parts.meshes[m])) : std::nullopt);
-  };
-  add_body_mesh(parts, person.rest_vertices, person.triangles, person.skin);
-  skin_new_meshes([&](const aiMesh&) { return body_skin_weights(rig, person); });
-  add_chair(parts, person.chair);
-  skin_new_meshes(nullptr);
-  if (person.aid.type == MobilityAidType::kWalker) {
-    add_primitives(parts, person.aid.parts, person.aid.colours, "mobility_aid",
-                   aid_material_names());
-    skin_new_meshes(nullptr);
-  } else {
-    for (const auto& [bone, prims] : aid_in_hands(person, rig)) {
-      add_primitives(parts, prims, person.aid.colours, "mobility_aid_" + rig.bones[bone].name,
-                     aid_material_names());
-      skin_new_meshes(
-          [&](const aiMesh& mesh) { return rigid_skin_weights(bone, mesh.mNumVertices); });
-    }
-  }
-  for (const Garment& g : person.garments) {
-    add_garment_mesh(parts, g, g.rest_vertices);
-    skin_new_meshes(
-        [&](const aiMesh&) { return proxy_skin_weights(rig, data.proxies().get(g.name)); });
-  }
+  const BoneFrames& rest = animation.person.rest_bones;
+  const RiggedParts rigged(animation, data);
+  const SceneParts& parts = rigged.parts;
+  const auto& skins = rigged.skins;
 
   GlbBuilder glb;
   Json& doc = glb.json;

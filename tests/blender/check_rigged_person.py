@@ -1,13 +1,17 @@
 """Imports a rigged person (wheelpose body export --rigged) into Blender and checks it.
 
 Run inside Blender (tests/blender/run.sh does):
-    blender -b --factory-startup --python check_rigged_person.py -- RIGGED.glb CLIP.json \
-        STATIC_A.glb FRAME_A STATIC_B.glb FRAME_B
+    blender -b --factory-startup --python check_rigged_person.py -- RIGGED CLIP.json \
+        STATIC_A.glb FRAME_A STATIC_B.glb FRAME_B [--baked60]
+RIGGED is the glb or the binary FBX; with --baked60 it is FBX2glTF's glb of the FBX (the FBX as
+the Autodesk FBX SDK reads it, sampled every 1/60 s), whose keys are those samples and whose
+joints are only the bones that move a vertex: all but the rig's root bone "Root".
 STATIC_A/B are the same person's static exports at clip frames FRAME_A and FRAME_B
 (wheelpose body export --clip CLIP.json --frame F): their body meshes are the vertices our own
 skinning (build_person) gives at those frames, in the rigged body mesh's vertex order. Checks:
-  * one armature with the rig's 53 bones;
-  * one key per clip frame on every rotation curve, keys spanning the clip's duration;
+  * one armature with the rig's 53 bones (52 with --baked60);
+  * one key per clip frame on every rotation curve (per 1/60 s with --baked60), keys spanning
+    the clip's duration (up to its last whole 1/60 s);
   * the skinned body as Blender deforms it (evaluated depsgraph) moves with the bones: the
     vertex nearest the right wrist at FRAME_A is within 1 mm of our skinning there, and the same
     vertex is within 1 mm of our skinning at FRAME_B, having moved with the arm.
@@ -56,7 +60,7 @@ def body_positions(path):
 
 
 def to_blender(v):
-    # glTF is +Y up, facing +Z; Blender's importer turns that into +Z up, facing -Y.
+    # Our glb and FBX are +Y up, facing +Z; Blender's importers turn that into +Z up, facing -Y.
     return Vector((v.x, -v.z, v.y))
 
 
@@ -73,16 +77,25 @@ def deformed_body(scene, frame):
 
 def main():
     args = sys.argv[sys.argv.index("--") + 1:]
+    baked_60 = "--baked60" in args
+    args = [a for a in args if a != "--baked60"]
     rigged, clip_path = args[0], args[1]
     statics = [(args[2], int(args[3])), (args[4], int(args[5]))]
     with open(clip_path) as f:
         clip = json.load(f)
     frames, fps = clip["frame_count"], clip["fps"]
+    span = (frames - 1) / fps
+    key_count = int(math.floor(span * 60 + 1e-9)) + 1 if baked_60 else frames
+    if baked_60:
+        span = (key_count - 1) / 60.0
     failures = []
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
     patch_gltf_importer()
-    bpy.ops.import_scene.gltf(filepath=rigged)
+    if rigged.endswith(".fbx"):
+        bpy.ops.import_scene.fbx(filepath=rigged)
+    else:
+        bpy.ops.import_scene.gltf(filepath=rigged)
     scene = bpy.context.scene
     armatures = [o for o in scene.objects if o.type == "ARMATURE"]
     if len(armatures) != 1:
@@ -91,20 +104,20 @@ def main():
         os._exit(1)
     arm = armatures[0]
     bones = len(arm.data.bones)
-    if bones != BONES:
-        failures.append(f"{bones} bones, expected {BONES}")
+    expected_bones = BONES - 1 if baked_60 else BONES
+    if bones != expected_bones:
+        failures.append(f"{bones} bones, expected {expected_bones}")
     action = arm.animation_data.action if arm.animation_data else None
     if action is None:
         failures.append("no animation")
         keys, first, last = [0], 0, 0
     else:
         keys = [len(fc.keyframe_points) for fc in action.fcurves if "rotation" in fc.data_path]
-        if not keys or set(keys) != {frames}:
-            failures.append(f"rotation curves with {sorted(set(keys))} keys, expected {frames}")
+        if not keys or set(keys) != {key_count}:
+            failures.append(f"rotation curves with {sorted(set(keys))} keys, expected {key_count}")
         key_frames = [k.co.x for fc in action.fcurves for k in fc.keyframe_points]
         first, last = min(key_frames), max(key_frames)
     scene_rate = scene.render.fps / scene.render.fps_base
-    span = (frames - 1) / fps
     if abs((last - first) - span * scene_rate) > 1e-3:
         failures.append(f"keys span {last - first:.4f} frames, expected {span * scene_rate:.4f}")
 

@@ -3,8 +3,9 @@
 # glb and bvh, converts every fbx with FBX2glTF (npm fbx2gltf, built on the Autodesk FBX SDK: the
 # reader Unity and Autodesk tools use) to <clip>.sdk.glb sampled at 60 fps, then imports every
 # file into Debian's Blender (headless) with check_imports.py. Then a dressed person with a cane,
-# rigged and animated by one of those clips (`body export --rigged`), is imported and checked
-# against the same person's static exports at two frames with check_rigged_person.py.
+# rigged and animated by one of those clips (`body export --rigged`) as glb and as binary FBX, and
+# the FBX as FBX2glTF reads it, are imported and checked against the same person's static exports
+# at two frames with check_rigged_person.py.
 # Usage: run.sh WHEELPOSE_BINARY SHARED_DIR
 # Exits 77 (CTest: skipped) when blender is not installed, except under CI, where that fails; the
 # same for FBX2glTF (`npm ci` in tests/blender, which scripts/setup.sh runs).
@@ -49,11 +50,25 @@ person=(--seed 4 --assets "$shared/assets" --params wheelchair=manual mobility_a
         wear=clothes/male_casualsuit01 wear=clothes/shoes01 wear=hair/short02)
 clip="$out/basketball_chest_pass.json"
 "$wheelpose" -q body export --rigged "${person[@]}" --clip "$clip" --out "$out/person.glb"
+"$wheelpose" -q body export --rigged "${person[@]}" --clip "$clip" --out "$out/person.fbx"
+rigged=("$out/person.glb" "$out/person.fbx")
+if [ -f "$fbx2gltf" ]; then
+  "$fbx2gltf" --binary --anim-framerate bake60 --input "$out/person.fbx" \
+    --output "$out/person.sdk" >"$out/fbx2gltf.log" 2>&1 ||
+    { cat "$out/fbx2gltf.log"; echo "FBX2glTF failed on person.fbx"; exit 1; }
+fi
 # Frame 40 of a 30 fps clip is a whole frame (32) of Blender's default 24 fps scene.
 for frame in 0 40; do
   "$wheelpose" -q body export "${person[@]}" --clip "$clip" --frame "$frame" \
     --out "$out/person_$frame.glb"
 done
-blender -b --factory-startup --python "$here/check_rigged_person.py" -- "$out/person.glb" \
-  "$clip" "$out/person_0.glb" 0 "$out/person_40.glb" 40 || status=1
+statics=("$out/person_0.glb" 0 "$out/person_40.glb" 40)
+for file in "${rigged[@]}"; do
+  blender -b --factory-startup --python "$here/check_rigged_person.py" -- "$file" "$clip" \
+    "${statics[@]}" || status=1
+done
+if [ -f "$out/person.sdk.glb" ]; then
+  blender -b --factory-startup --python "$here/check_rigged_person.py" -- "$out/person.sdk.glb" \
+    "$clip" "${statics[@]}" --baked60 || status=1
+fi
 exit $status
