@@ -14,6 +14,7 @@
 #include "body/assets.h"
 #include "body/person.h"
 #include "body/person_animation.h"
+#include "body/person_glb.h"
 #include "body/rigged_fbx.h"
 #include "body/rigged_glb.h"
 #include "core/atomic_file.h"

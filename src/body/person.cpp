@@ -7,11 +7,9 @@
 #include <set>
 
 #include "body/assets.h"
-#include "body/glb_parts.h"
 #include "body/rim_reach.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "motion/glb_file.h"
 #include "motion/seating.h"
 
 namespace wheelpose::body {
@@ -116,7 +114,8 @@ void apply_overrides(PersonSpec& spec, const std::vector<std::string>& overrides
     if (key == "wheelchair") {
       spec.wheelchair = wheelchair_type_from_name(value);
     } else if (key == "hands_on_rims") {
-      if (value != "0" && value != "1") throw Error("--params hands_on_rims=" + value + ": expected 0 or 1");
+      if (value != "0" && value != "1")
+        throw Error("--params hands_on_rims=" + value + ": expected 0 or 1");
       spec.hands_on_rims = value == "1";
     } else if (key == "wear") {
       spec.proxies.push_back(value);
@@ -185,100 +184,127 @@ motion::PoseRotations with_standing_legs(motion::PoseRotations pose) {
   return pose;
 }
 
-Person build_person(const BodyData& data, const PersonSpec& spec) {
-  Person person;
-  const Rig& rig = data.rig();
-  const std::vector<Eigen::Vector3f> morphed = data.model().morph(spec.params);
-  person.rest_bones = bone_positions(rig, morphed);
-  const bool standing = spec.wheelchair == WheelchairType::kNone;
-  RigPose pose =
-      retarget(rig, person.rest_bones,
-               standing    ? with_standing_legs(spec.pose ? *spec.pose : rest_standing_pose())
-               : spec.pose ? *spec.pose
-                           : rest_seated_pose());
-  const std::vector<int>& body = data.body_vertices();
+namespace {
 
+// The rig pose of the spec's frame, the chair fitted to the body (none when standing) and the
+// posed morphed vertices.
+struct Seated {
+  RigPose pose;
   std::vector<Eigen::Vector3f> posed;
-  bool on_rims = false;
+};
+
+Seated seat(const BodyData& data, const PersonSpec& spec,
+            const std::vector<Eigen::Vector3f>& morphed, Person& person) {
+  const Rig& rig = data.rig();
+  const bool standing = spec.wheelchair == WheelchairType::kNone;
+  Seated out;
+  out.pose = retarget(rig, person.rest_bones,
+                      standing ? with_standing_legs(spec.pose ? *spec.pose : rest_standing_pose())
+                      : spec.pose ? *spec.pose
+                                  : rest_seated_pose());
   if (standing) {
     RandomStream no_chair(spec.seed, {"body", "wheelchair"});
     person.chair = make_wheelchair(WheelchairType::kNone, SeatFit{}, no_chair);
-    posed = skin(rig, person.rest_bones, pose, morphed);
-  } else {
-    // The chair is fitted to the rest seated pose, so it does not change with the clip frame.
-    const RigPose seated = spec.pose ? retarget(rig, person.rest_bones, rest_seated_pose()) : pose;
-    std::vector<Eigen::Vector3f> seated_vertices = skin(rig, person.rest_bones, seated, morphed);
-    const motion::Pose seated_joints =
-        skeleton_joints(rig, pose_bones(rig, person.rest_bones, seated));
-    const SeatFit fit =
-        measure_seat_fit(seated_vertices, body, seated_joints[motion::kLeftHip].cast<float>(),
-                         seated_joints[motion::kRightHip].cast<float>(),
-                         seated_joints[motion::kLeftKnee].cast<float>(),
-                         seated_joints[motion::kLeftAnkle].cast<float>(),
-                         seated_joints[motion::kHeadBase].cast<float>());
-    RandomStream chair_stream(spec.seed, {"body", "wheelchair"});
-    person.chair = make_wheelchair(spec.wheelchair, fit, chair_stream);
-    // Pushing clips: the hands go to the rims (the chair is in the same, unshifted frame).
-    on_rims = spec.hands_on_rims && reach_push_rims(rig, person.rest_bones, person.chair, pose) > 0;
-    posed = spec.pose || on_rims ? skin(rig, person.rest_bones, pose, morphed)
-                                 : std::move(seated_vertices);
+    out.posed = skin(rig, person.rest_bones, out.pose, morphed);
+    return out;
   }
-  person.posed_bones = pose_bones(rig, person.rest_bones, pose);
-  // Worn proxies and the base vertices they cover (hidden so skin does not poke through).
+  // The chair is fitted to the rest seated pose, so it does not change with the clip frame.
+  const RigPose seated =
+      spec.pose ? retarget(rig, person.rest_bones, rest_seated_pose()) : out.pose;
+  std::vector<Eigen::Vector3f> seated_vertices = skin(rig, person.rest_bones, seated, morphed);
+  const motion::Pose seated_joints =
+      skeleton_joints(rig, pose_bones(rig, person.rest_bones, seated));
+  const SeatFit fit = measure_seat_fit(seated_vertices, data.body_vertices(),
+                                       seated_joints[motion::kLeftHip].cast<float>(),
+                                       seated_joints[motion::kRightHip].cast<float>(),
+                                       seated_joints[motion::kLeftKnee].cast<float>(),
+                                       seated_joints[motion::kLeftAnkle].cast<float>(),
+                                       seated_joints[motion::kHeadBase].cast<float>());
+  RandomStream chair_stream(spec.seed, {"body", "wheelchair"});
+  person.chair = make_wheelchair(spec.wheelchair, fit, chair_stream);
+  // Pushing clips: the hands go to the rims (the chair is in the same, unshifted frame).
+  const bool on_rims =
+      spec.hands_on_rims && reach_push_rims(rig, person.rest_bones, person.chair, out.pose) > 0;
+  out.posed = spec.pose || on_rims ? skin(rig, person.rest_bones, out.pose, morphed)
+                                   : std::move(seated_vertices);
+  return out;
+}
+
+// The worn proxies, the base vertices they cover (hidden so skin does not poke through) and the
+// base vertices (helpers included: clothes are fitted to the helper tights) beyond a limb cut.
+struct Wardrobe {
   std::vector<const Proxy*> worn;
-  std::vector<bool> covered(morphed.size(), false);
+  std::vector<bool> covered, removed_base;
+};
+
+Wardrobe wardrobe(const BodyData& data, const PersonSpec& spec,
+                  const std::vector<Eigen::Vector3f>& morphed, const BoneFrames& rest_bones) {
+  Wardrobe out;
+  out.covered.assign(morphed.size(), false);
+  out.removed_base.assign(morphed.size(), false);
   for (const std::string& name : spec.proxies) {
-    worn.push_back(&data.proxies().get(name));
-    for (int v : worn.back()->delete_verts)
-      if (v >= 0 && static_cast<std::size_t>(v) < covered.size()) covered[v] = true;
+    out.worn.push_back(&data.proxies().get(name));
+    for (int v : out.worn.back()->delete_verts)
+      if (v >= 0 && static_cast<std::size_t>(v) < out.covered.size()) out.covered[v] = true;
   }
-  // Base vertices (helpers included: clothes are fitted to the helper tights) beyond a cut.
-  std::vector<bool> removed_base(morphed.size(), false);
-  if (!worn.empty() && std::any_of(spec.limbs.begin(), spec.limbs.end(),
-                                   [](Cut c) { return c != Cut::kNone; })) {
+  if (!out.worn.empty() &&
+      std::any_of(spec.limbs.begin(), spec.limbs.end(), [](Cut c) { return c != Cut::kNone; })) {
     std::vector<int> all(morphed.size());
     for (std::size_t v = 0; v < all.size(); ++v) all[v] = static_cast<int>(v);
     const std::vector<int> limb_of =
-        limbs_beyond_cuts(rig, person.rest_bones, morphed, all, spec.limbs);
-    for (std::size_t v = 0; v < all.size(); ++v) removed_base[v] = limb_of[v] >= 0;
+        limbs_beyond_cuts(data.rig(), rest_bones, morphed, all, spec.limbs);
+    for (std::size_t v = 0; v < all.size(); ++v) out.removed_base[v] = limb_of[v] >= 0;
   }
-  {
-    std::vector<Eigen::Vector3f> rest_body;
-    rest_body.reserve(body.size());
-    for (int v : body) rest_body.push_back(morphed[v]);
-    const CutResult cut =
-        cut_limbs(rig, person.rest_bones, rest_body, body, data.body_triangles(), spec.limbs);
-    // Keep the referenced vertices only, then the cap centres (rim means).
-    std::vector<unsigned> remap(body.size() + cut.caps.size(), 0);
-    for (std::size_t i = 0; i < body.size(); ++i) {
-      if (cut.removed[i]) continue;
-      remap[i] = static_cast<unsigned>(person.vertices.size());
-      person.vertices.push_back(posed[body[i]]);
-      person.rest_vertices.push_back(morphed[body[i]]);
-      person.base_vertex.push_back(body[i]);
-    }
-    for (std::size_t c = 0; c < cut.caps.size(); ++c) {
-      Eigen::Vector3f p = Eigen::Vector3f::Zero(), r = Eigen::Vector3f::Zero();
-      for (unsigned v : cut.cap_rims[c]) {
-        p += posed[body[v]];
-        r += morphed[body[v]];
-      }
-      const float n = static_cast<float>(cut.cap_rims[c].size());
-      remap[cut.caps[c]] = static_cast<unsigned>(person.vertices.size());
-      person.vertices.push_back(p / n);
-      person.rest_vertices.push_back(r / n);
-      person.base_vertex.push_back(-1);
-      std::vector<unsigned>& rim = person.cap_rims.emplace_back();
-      for (unsigned v : cut.cap_rims[c]) rim.push_back(remap[v]);
-    }
-    person.triangles.reserve(cut.triangles.size());
-    auto hidden = [&](unsigned local) { return local < body.size() && covered[body[local]]; };
-    for (const auto& t : cut.triangles) {
-      if (hidden(t[0]) || hidden(t[1]) || hidden(t[2])) continue;
-      person.triangles.push_back({remap[t[0]], remap[t[1]], remap[t[2]]});
-    }
+  return out;
+}
+
+// The visible body: the base mesh without what the limb cuts remove or clothes cover, with the
+// cap centres (their rims' means) after the kept vertices.
+void add_cut_body(const BodyData& data, const PersonSpec& spec,
+                  const std::vector<Eigen::Vector3f>& morphed,
+                  const std::vector<Eigen::Vector3f>& posed, const std::vector<bool>& covered,
+                  Person& person) {
+  const std::vector<int>& body = data.body_vertices();
+  std::vector<Eigen::Vector3f> rest_body;
+  rest_body.reserve(body.size());
+  for (int v : body) rest_body.push_back(morphed[v]);
+  const CutResult cut =
+      cut_limbs(data.rig(), person.rest_bones, rest_body, body, data.body_triangles(), spec.limbs);
+  // Keep the referenced vertices only, then the cap centres (rim means).
+  std::vector<unsigned> remap(body.size() + cut.caps.size(), 0);
+  for (std::size_t i = 0; i < body.size(); ++i) {
+    if (cut.removed[i]) continue;
+    remap[i] = static_cast<unsigned>(person.vertices.size());
+    person.vertices.push_back(posed[body[i]]);
+    person.rest_vertices.push_back(morphed[body[i]]);
+    person.base_vertex.push_back(body[i]);
   }
-  for (const Proxy* proxy : worn) {
+  for (std::size_t c = 0; c < cut.caps.size(); ++c) {
+    Eigen::Vector3f p = Eigen::Vector3f::Zero(), r = Eigen::Vector3f::Zero();
+    for (unsigned v : cut.cap_rims[c]) {
+      p += posed[body[v]];
+      r += morphed[body[v]];
+    }
+    const float n = static_cast<float>(cut.cap_rims[c].size());
+    remap[cut.caps[c]] = static_cast<unsigned>(person.vertices.size());
+    person.vertices.push_back(p / n);
+    person.rest_vertices.push_back(r / n);
+    person.base_vertex.push_back(-1);
+    std::vector<unsigned>& rim = person.cap_rims.emplace_back();
+    for (unsigned v : cut.cap_rims[c]) rim.push_back(remap[v]);
+  }
+  person.triangles.reserve(cut.triangles.size());
+  auto hidden = [&](unsigned local) { return local < body.size() && covered[body[local]]; };
+  for (const auto& t : cut.triangles) {
+    if (hidden(t[0]) || hidden(t[1]) || hidden(t[2])) continue;
+    person.triangles.push_back({remap[t[0]], remap[t[1]], remap[t[2]]});
+  }
+}
+
+// Each worn proxy fitted to the posed and to the rest body, without faces on a removed limb.
+void dress(const Wardrobe& wardrobe, const std::vector<Eigen::Vector3f>& morphed,
+           const std::vector<Eigen::Vector3f>& posed, Person& person) {
+  for (const Proxy* proxy : wardrobe.worn) {
     Garment g;
     g.name = proxy->name;
     g.vertices = fit_proxy(*proxy, morphed, posed);
@@ -286,71 +312,66 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
     for (const auto& t : proxy->triangles) {
       bool on_removed_limb = false;
       for (unsigned c : t)
-        for (int r : proxy->refs[c]) on_removed_limb = on_removed_limb || removed_base[r];
+        for (int r : proxy->refs[c]) on_removed_limb = on_removed_limb || wardrobe.removed_base[r];
       if (!on_removed_limb) g.triangles.push_back(t);
     }
     person.garments.push_back(std::move(g));
   }
-  person.joints = skeleton_joints(rig, person.posed_bones);
-  person.skin = skin_colour(spec.params.skin_tone);
+}
 
-  // Face keypoints move rigidly with the head bone.
+// Our joint behind each COCO keypoint (-1 for the face, which follows the head bone).
+constexpr int kCocoJoint[kCocoCount] = {-1,
+                                        -1,
+                                        -1,
+                                        -1,
+                                        -1,
+                                        motion::kLeftShoulder,
+                                        motion::kRightShoulder,
+                                        motion::kLeftElbow,
+                                        motion::kRightElbow,
+                                        motion::kLeftWrist,
+                                        motion::kRightWrist,
+                                        motion::kLeftHip,
+                                        motion::kRightHip,
+                                        motion::kLeftKnee,
+                                        motion::kRightKnee,
+                                        motion::kLeftAnkle,
+                                        motion::kRightAnkle};
+
+// The 23 joints, COCO-17 keypoints (the face's moving rigidly with the head bone), which of
+// them a limb cut removes, and the raised hips.
+void place_keypoints(const BodyData& data, const PersonSpec& spec,
+                     const std::vector<Eigen::Vector3f>& morphed, const RigPose& pose,
+                     Person& person) {
+  const Rig& rig = data.rig();
+  person.joints = skeleton_joints(rig, person.posed_bones);
   const int head = rig.bone("head");
   const Eigen::Quaternionf head_rot = pose.rotation[head];
-  std::array<Eigen::Vector3f, 5> face;
-  for (int k = 0; k < 5; ++k) {
+  for (int k = 0; k < kCocoCount; ++k) {
+    if (kCocoJoint[k] >= 0) {
+      person.coco[k] = person.joints[kCocoJoint[k]].cast<float>();
+      continue;
+    }
     Eigen::Vector3f sum = Eigen::Vector3f::Zero();
     for (int v : data.face_landmarks()[k]) sum += morphed[v];
     const Eigen::Vector3f rest = sum / static_cast<float>(data.face_landmarks()[k].size());
-    face[k] = person.posed_bones.head[head] + head_rot * (rest - person.rest_bones.head[head]);
+    person.coco[k] =
+        person.posed_bones.head[head] + head_rot * (rest - person.rest_bones.head[head]);
+  }
+  const std::vector<int> absent = absent_joints(spec.limbs);
+  for (int k = 0; k < kCocoCount; ++k) {
+    person.coco_present[k] =
+        kCocoJoint[k] < 0 || std::find(absent.begin(), absent.end(), kCocoJoint[k]) == absent.end();
   }
   auto joint = [&](int j) { return person.joints[j].cast<float>().eval(); };
-  person.coco = {face[0],
-                 face[1],
-                 face[2],
-                 face[3],
-                 face[4],
-                 joint(motion::kLeftShoulder),
-                 joint(motion::kRightShoulder),
-                 joint(motion::kLeftElbow),
-                 joint(motion::kRightElbow),
-                 joint(motion::kLeftWrist),
-                 joint(motion::kRightWrist),
-                 joint(motion::kLeftHip),
-                 joint(motion::kRightHip),
-                 joint(motion::kLeftKnee),
-                 joint(motion::kRightKnee),
-                 joint(motion::kLeftAnkle),
-                 joint(motion::kRightAnkle)};
-  person.coco_present.fill(true);
-  const std::vector<int> absent = absent_joints(spec.limbs);
-  auto is_absent = [&](int j) {
-    return std::find(absent.begin(), absent.end(), j) != absent.end();
-  };
-  const int coco_joint[kCocoCount] = {-1,
-                                      -1,
-                                      -1,
-                                      -1,
-                                      -1,
-                                      motion::kLeftShoulder,
-                                      motion::kRightShoulder,
-                                      motion::kLeftElbow,
-                                      motion::kRightElbow,
-                                      motion::kLeftWrist,
-                                      motion::kRightWrist,
-                                      motion::kLeftHip,
-                                      motion::kRightHip,
-                                      motion::kLeftKnee,
-                                      motion::kRightKnee,
-                                      motion::kLeftAnkle,
-                                      motion::kRightAnkle};
-  for (int k = 0; k < kCocoCount; ++k)
-    person.coco_present[k] = coco_joint[k] < 0 || !is_absent(coco_joint[k]);
   const Eigen::Vector3f up = (joint(motion::kNeckBase) - joint(motion::kPelvis)).normalized();
   person.raised_hips = {joint(motion::kLeftHip) + 0.09f * up,
                         joint(motion::kRightHip) + 0.09f * up};
+}
 
-  // Floor at y = 0: under the chair, or under the lowest point of a standing person.
+// Moves everything posed so that the floor is at y = 0: under the chair, or under the lowest
+// point of a standing person.
+void stand_on_floor(bool standing, Person& person) {
   float floor_y = person.chair.ground_y;
   if (standing) {
     floor_y = std::numeric_limits<float>::max();
@@ -359,16 +380,6 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
       for (const auto& v : g.vertices) floor_y = std::min(floor_y, v.y());
   }
   const Eigen::Vector3f shift(0, -floor_y, 0);
-  // The aid is placed on the floor-level body, after the shift below.
-  auto place_aid = [&] {
-    if (spec.mobility_aid == MobilityAidType::kNone) return;
-    AidAnchors anchors{person.coco[7],  person.coco[8],  person.coco[9],
-                       person.coco[10], person.coco[13], person.coco[14]};
-    anchors.left_hand = person.coco_present[9];
-    anchors.right_hand = person.coco_present[10];
-    RandomStream aid_stream(spec.seed, {"body", "mobility_aid"});
-    person.aid = make_mobility_aid(spec.mobility_aid, anchors, aid_stream);
-  };
   for (auto& v : person.vertices) v += shift;
   for (auto& g : person.garments)
     for (auto& v : g.vertices) v += shift;
@@ -380,10 +391,22 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
   for (auto& p : person.chair.parts) p.centre += shift;
   for (auto& v : person.chair.model.vertices) v += shift;
   person.chair.ground_y = 0;
-  person.pose = pose;
   person.pose.root_offset += shift;
-  place_aid();
+}
 
+// The mobility aid at the floor-level body's hands and knees.
+void place_aid(const PersonSpec& spec, Person& person) {
+  if (spec.mobility_aid == MobilityAidType::kNone) return;
+  AidAnchors anchors{person.coco[7],  person.coco[8],  person.coco[9],
+                     person.coco[10], person.coco[13], person.coco[14]};
+  anchors.left_hand = person.coco_present[9];
+  anchors.right_hand = person.coco_present[10];
+  RandomStream aid_stream(spec.seed, {"body", "mobility_aid"});
+  person.aid = make_mobility_aid(spec.mobility_aid, anchors, aid_stream);
+}
+
+// Person::description: parameters, chair, keypoints and joints, coordinates to 10 µm.
+nlohmann::ordered_json describe(const PersonSpec& spec, const Person& person) {
   float ymin = 1e9f, ymax = -1e9f;
   for (const auto& v : person.rest_vertices) {
     ymin = std::min(ymin, v.y());
@@ -416,7 +439,8 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
   }
   d["limbs"] = limbs;
   nlohmann::ordered_json absent_names = nlohmann::ordered_json::array();
-  for (int j : absent) absent_names.push_back(std::string(motion::joint_name(j)));
+  for (int j : absent_joints(spec.limbs))
+    absent_names.push_back(std::string(motion::joint_name(j)));
   d["absent_joints"] = absent_names;
   d["raised_hips"] = {{"left_hip", vec(person.raised_hips[0])},
                       {"right_hip", vec(person.raised_hips[1])}};
@@ -425,7 +449,26 @@ Person build_person(const BodyData& data, const PersonSpec& spec) {
     joints[std::string(motion::joint_name(j))] = vec(person.joints[j].cast<float>());
   }
   d["joints"] = joints;
-  person.description = std::move(d);
+  return d;
+}
+
+}  // namespace
+
+Person build_person(const BodyData& data, const PersonSpec& spec) {
+  Person person;
+  const std::vector<Eigen::Vector3f> morphed = data.model().morph(spec.params);
+  person.rest_bones = bone_positions(data.rig(), morphed);
+  Seated seated = seat(data, spec, morphed, person);
+  person.posed_bones = pose_bones(data.rig(), person.rest_bones, seated.pose);
+  const Wardrobe worn = wardrobe(data, spec, morphed, person.rest_bones);
+  add_cut_body(data, spec, morphed, seated.posed, worn.covered, person);
+  dress(worn, morphed, seated.posed, person);
+  person.skin = skin_colour(spec.params.skin_tone);
+  place_keypoints(data, spec, morphed, seated.pose, person);
+  person.pose = std::move(seated.pose);
+  stand_on_floor(spec.wheelchair == WheelchairType::kNone, person);
+  place_aid(spec, person);
+  person.description = describe(spec, person);
   return person;
 }
 
@@ -439,43 +482,6 @@ std::vector<Eigen::Vector3f> vertex_normals(const std::vector<Eigen::Vector3f>& 
   for (auto& x : n)
     x = x.squaredNorm() > 0 ? x.normalized().eval() : Eigen::Vector3f::UnitY().eval();
   return n;
-}
-
-namespace {
-
-void export_parts(SceneParts& parts, const fs::path& path) {
-  motion::write_glb_file(*assemble_scene(parts, "wheelpose_body_root"), path);
-}
-
-}  // namespace
-
-void write_person_glb(const Person& person, const BodyData& /*data*/, const fs::path& path) {
-  SceneParts parts;
-  add_body_mesh(parts, person.vertices, person.triangles, person.skin);
-  add_chair(parts, person.chair);
-  add_primitives(parts, person.aid.parts, person.aid.colours, "mobility_aid", aid_material_names());
-  for (const Garment& g : person.garments) add_garment_mesh(parts, g, g.vertices);
-  for (int k = 0; k < kCocoCount; ++k) {
-    if (!person.coco_present[k]) continue;
-    parts.markers.emplace_back(std::string("kp_") + coco_names()[k], person.coco[k]);
-  }
-  parts.markers.emplace_back("kp_left_hip_raised", person.raised_hips[0]);
-  parts.markers.emplace_back("kp_right_hip_raised", person.raised_hips[1]);
-  export_parts(parts, path);
-}
-
-void write_wheelchair_glb(const Wheelchair& chair, const fs::path& path) {
-  SceneParts parts;
-  add_chair(parts, chair);
-  export_parts(parts, path);
-}
-
-void write_cc_by_wheelchair_glb(const fs::path& path) {
-  const TriMesh mesh = load_cc_by_wheelchair();
-  SceneParts parts;
-  add_mesh(parts, "cc_by_wheelchair", mesh.vertices, vertex_normals(mesh.vertices, mesh.triangles),
-           mesh.triangles, "cc_by_wheelchair_material", {0.4f, 0.4f, 0.42f});
-  export_parts(parts, path);
 }
 
 }  // namespace wheelpose::body

@@ -105,8 +105,8 @@ struct Person {
   std::array<Eigen::Vector3f, 2> raised_hips;    // hips 9 cm up the torso (left, right)
   Eigen::Vector3f skin = Eigen::Vector3f::Ones();
   Wheelchair chair;
-  MobilityAid aid;  // held in the hands (or standing in front), empty when none
-  std::vector<Garment> garments;  // in PersonSpec::proxies order
+  MobilityAid aid;                     // held in the hands (or standing in front), empty when none
+  std::vector<Garment> garments;       // in PersonSpec::proxies order
   nlohmann::ordered_json description;  // parameters, chair dimensions, keypoints
 };
 
@@ -115,14 +115,5 @@ Person build_person(const BodyData& data, const PersonSpec& spec);
 // Area-weighted unit vertex normals of a triangle mesh (+Y where a vertex has no area).
 std::vector<Eigen::Vector3f> vertex_normals(const std::vector<Eigen::Vector3f>& vertices,
                                             const std::vector<std::array<unsigned, 3>>& triangles);
-
-// glb with meshes "body" and "wheelchair_<material>" and one empty node per keypoint; the floor
-// is at y = 0. Byte-identical for identical persons.
-void write_person_glb(const Person& person, const BodyData& data,
-                      const std::filesystem::path& path);
-// glb of an empty wheelchair (scene object).
-void write_wheelchair_glb(const Wheelchair& chair, const std::filesystem::path& path);
-// glb of the CC-BY sweethome3d wheelchair (load_cc_by_wheelchair), one grey mesh.
-void write_cc_by_wheelchair_glb(const std::filesystem::path& path);
 
 }  // namespace wheelpose::body
