@@ -16,6 +16,7 @@
 #include "core/random.h"
 #include "dataset/coco_file.h"
 #include "dataset/stats.h"
+#include "dataset/stats_report.h"
 
 namespace {
 

@@ -11,6 +11,7 @@
 
 #include "dataset/coco_file.h"
 #include "dataset/stats.h"
+#include "dataset/stats_report.h"
 
 namespace wheelpose::app {
 namespace {

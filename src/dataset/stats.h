@@ -69,10 +69,4 @@ DatasetStats compute_stats(const json& root, const std::string& source, const st
 
 json stats_to_json(const DatasetStats& stats);
 
-// Writes out_dir/stats.json, out_dir/index.html and each figure as .png and .svg (PLplot).
-// datasets[0] is the dataset, datasets[1] (optional) the reference shown beside it.
-// Returns the figure names.
-std::vector<std::string> write_stats_report(const std::vector<DatasetStats>& datasets,
-                                            const std::filesystem::path& out_dir);
-
 }  // namespace wheelpose::dataset
