@@ -118,6 +118,7 @@ class Renderer {
 
   struct Geometry;       // per-instance shading data (private to renderer.cpp)
   struct PixelLighting;  // per-frame decoupled-shading buffers (private to renderer.cpp)
+  class TileIntegrator;  // one tile's samples, step by step (private to renderer.cpp)
 
  private:
   // Samples [sample_begin, sample_end) of one 8×8 tile. sample_begin = 0 starts every pixel;
