@@ -185,33 +185,14 @@ motion::PoseRotations clip_pose(const motion::SeatedClip& clip, double time) {
   return motion::global_rotations(clip.motion, frame);
 }
 
-void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
-                const body::BodyData& body_data, const std::vector<motion::SeatedClip>& clips,
-                const std::vector<KeypointAnchor>& anchors, LabelPerson& label) {
-  const PersonDraft& p = draft.people[k];
-  body::PersonSpec spec = p.spec;
-  const motion::SeatedClip* clip =
-      p.clip >= 0 && static_cast<std::size_t>(p.clip) < clips.size() ? &clips[p.clip] : nullptr;
-  if (clip != nullptr) {
-    spec.pose = clip_pose(*clip, p.time);
-    spec.hands_on_rims =
-        spec.wheelchair != body::WheelchairType::kNone && pushes_the_rims(clip->motion.name);
-  }
-  const body::Person person = body::build_person(body_data, spec);
-
-  const Vector3f pelvis = person.joints[motion::kPelvis].cast<float>();
-  const Vector3f anchor(pelvis.x(), draft.environment == EnvironmentKind::kRoom ? 0.0f : pelvis.y(),
-                        pelvis.z());
-  const Eigen::Affine3f to_world = Eigen::Translation3f(p.position) * p.rotation *
-                                   Eigen::Scaling(p.scale) * Eigen::Translation3f(-anchor);
-  const auto id = static_cast<std::uint16_t>(k + 1);
-  const std::string name = "person_" + std::to_string(k + 1);
-
-  // Body, split into skin and garments.
+// The body, split into skin and the outfit's top, bottom and shoes: a worn suit covers the body,
+// so what shows of it is skin; otherwise the body is painted by bone.
+void add_body(SceneAssembler& out, const body::Person& person, const PersonDraft& p,
+              const body::BodyData& body_data, const Eigen::Affine3f& to_world,
+              const std::string& name, std::uint16_t id) {
   std::vector<Vector3f> world(person.vertices.size());
   for (std::size_t v = 0; v < world.size(); ++v) world[v] = to_world * person.vertices[v];
   const std::vector<Vector3f> normals = body::vertex_normals(world, person.triangles);
-  // A worn suit covers the body: what shows of it is skin. Otherwise paint the body by bone.
   const bool suited =
       std::any_of(person.garments.begin(), person.garments.end(), [](const body::Garment& g) {
         return g.name.rfind("clothes/", 0) == 0 && g.name.find("shoes") == std::string::npos &&
@@ -254,6 +235,11 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
     out.add_instance(mesh.name, out.add_mesh(std::move(mesh)), out.add_material(material),
                      Eigen::Matrix4f::Identity(), id, kSemanticPerson);
   }
+}
+
+// The MakeHuman clothes, hair, eyebrows and eyes worn, each in the outfit's colour for it.
+void add_garments(SceneAssembler& out, const body::Person& person, const PersonDraft& p,
+                  const Eigen::Affine3f& to_world, const std::string& name, std::uint16_t id) {
   for (std::size_t gi = 0; gi < person.garments.size(); ++gi) {
     const body::Garment& g = person.garments[gi];
     if (g.triangles.empty()) continue;
@@ -281,8 +267,10 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
     out.add_instance(mesh.name, out.add_mesh(std::move(mesh)), out.add_material(material),
                      Eigen::Matrix4f::Identity(), id, kSemanticPerson);
   }
-  add_chair(out, person.chair, chair_colours(person.chair, p.chair_colours), to_world,
-            name + "_wheelchair", static_cast<std::uint16_t>(kChairIdBase + k + 1));
+}
+
+void add_mobility_aid(SceneAssembler& out, const body::Person& person,
+                      const Eigen::Affine3f& to_world, const std::string& name, std::size_t k) {
   static const char* kAidParts[] = {"frame", "grips"};
   for (int m = 0; m < static_cast<int>(person.aid.colours.size()); ++m) {
     scene::Mesh mesh = transformed_mesh(body::primitive_mesh(person.aid.parts, m),
@@ -297,7 +285,13 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
                      Eigen::Matrix4f::Identity(), static_cast<std::uint16_t>(kAidIdBase + k + 1),
                      kSemanticMobilityAid);
   }
+}
 
+// The person's keypoints in the world and the attributes its annotation records.
+void label_person(const body::Person& person, const body::PersonSpec& spec, const PersonDraft& p,
+                  const motion::SeatedClip* clip, const Eigen::Affine3f& to_world,
+                  const std::vector<KeypointAnchor>& anchors, std::uint16_t id,
+                  LabelPerson& label) {
   label.instance_id = id;
   for (const KeypointAnchor& a : anchors) {
     const bool raised = a.kind == KeypointAnchor::kRaisedHip;
@@ -325,6 +319,35 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
   label.attributes["scale"] = std::round(static_cast<double>(p.scale) * 1e4) / 1e4;
   // The MakeHuman clothes, hair and eyebrows worn, so train/test asset overlap is checkable.
   label.attributes["assets"] = spec.proxies;
+}
+
+void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
+                const body::BodyData& body_data, const std::vector<motion::SeatedClip>& clips,
+                const std::vector<KeypointAnchor>& anchors, LabelPerson& label) {
+  const PersonDraft& p = draft.people[k];
+  body::PersonSpec spec = p.spec;
+  const motion::SeatedClip* clip =
+      p.clip >= 0 && static_cast<std::size_t>(p.clip) < clips.size() ? &clips[p.clip] : nullptr;
+  if (clip != nullptr) {
+    spec.pose = clip_pose(*clip, p.time);
+    spec.hands_on_rims =
+        spec.wheelchair != body::WheelchairType::kNone && pushes_the_rims(clip->motion.name);
+  }
+  const body::Person person = body::build_person(body_data, spec);
+
+  const Vector3f pelvis = person.joints[motion::kPelvis].cast<float>();
+  const Vector3f anchor(pelvis.x(), draft.environment == EnvironmentKind::kRoom ? 0.0f : pelvis.y(),
+                        pelvis.z());
+  const Eigen::Affine3f to_world = Eigen::Translation3f(p.position) * p.rotation *
+                                   Eigen::Scaling(p.scale) * Eigen::Translation3f(-anchor);
+  const auto id = static_cast<std::uint16_t>(k + 1);
+  const std::string name = "person_" + std::to_string(k + 1);
+  add_body(out, person, p, body_data, to_world, name, id);
+  add_garments(out, person, p, to_world, name, id);
+  add_chair(out, person.chair, chair_colours(person.chair, p.chair_colours), to_world,
+            name + "_wheelchair", static_cast<std::uint16_t>(kChairIdBase + k + 1));
+  add_mobility_aid(out, person, to_world, name, k);
+  label_person(person, spec, p, clip, to_world, anchors, id, label);
 }
 
 void add_structure(SceneAssembler& out, const FrameDraft& draft) {
