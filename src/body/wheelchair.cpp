@@ -234,6 +234,142 @@ float seat_surface_height(const TriMesh& m) {
   return lo.y() + (static_cast<float>(best) + 0.5f) / 100.0f;
 }
 
+namespace {
+
+// The seat fitted to the body and the frame around it, which every chair type shares.
+struct SeatFrame {
+  float seat_w, seat_d, hw, top, back, front, cushion, back_h, back_t, plate_top, ground;
+};
+
+// Seat, backrest, posts, rails and footplate, fitted to the body: width from the hips, depth
+// from the thigh, footplate under the feet. Sets c.ground_y.
+SeatFrame add_seat_frame(Wheelchair& c, const SeatFit& fit, RandomStream& s) {
+  const bool sport = c.type == WheelchairType::kSport;
+  const bool power = c.type == WheelchairType::kPower;
+  SeatFrame f;
+  f.seat_w = fit.hip_width + static_cast<float>(s.uniform(0.02, 0.06));
+  const float gap = 0.003f;
+  f.top = fit.seat_top - gap;
+  f.back = fit.back_z - gap;
+  f.seat_d = std::min(fit.thigh_length * static_cast<float>(s.uniform(0.8, 0.92)),
+                      fit.seat_front_limit - f.back);
+  f.front = f.back + f.seat_d;
+  f.hw = f.seat_w / 2;
+  f.cushion = power ? 0.08f : 0.05f;
+  // Footplate height from the shin: the feet rest on it.
+  f.plate_top = fit.feet_bottom - gap;
+  const float plate_clearance = static_cast<float>(s.uniform(0.04, 0.08));
+  c.ground_y = f.plate_top - 0.02f - plate_clearance;
+  f.ground = c.ground_y;
+  const float hw = f.hw, top = f.top, back = f.back, front = f.front, cushion = f.cushion;
+
+  c.parts.push_back(box("seat", {-hw, top - cushion, back}, {hw, top, front}, kUpholstery));
+  f.back_h = sport   ? static_cast<float>(s.uniform(0.18, 0.28))
+             : power ? static_cast<float>(s.uniform(0.50, 0.60))
+                     : static_cast<float>(s.uniform(0.38, 0.48));
+  f.back_t = 0.03f;
+  c.parts.push_back(
+      box("backrest", {-hw, top, back - f.back_t}, {hw, top + f.back_h, back}, kUpholstery));
+  // Back posts / canes.
+  for (int side : {-1, 1}) {
+    const std::string sfx = side < 0 ? "_r" : "_l";
+    const float x = side * (hw + 0.012f);
+    c.parts.push_back(tube("back_post" + sfx, {x, top - cushion, back - f.back_t},
+                           {x, top + f.back_h + (sport ? 0.0f : 0.05f), back - f.back_t}, 0.012f));
+    c.parts.push_back(tube("seat_rail" + sfx, {x, top - cushion, back - f.back_t},
+                           {x, top - cushion, front}, 0.012f));
+    c.parts.push_back(
+        tube("front_post" + sfx, {x, top - cushion, front}, {x, f.plate_top, fit.feet_z}, 0.012f));
+  }
+  // Footplate under the feet.
+  const float plate_d = static_cast<float>(s.uniform(0.14, 0.2));
+  c.parts.push_back(box("footplate", {-hw, f.plate_top - 0.02f, fit.feet_z - plate_d / 2},
+                        {hw, f.plate_top, fit.feet_z + plate_d / 2}, kTrim));
+  return f;
+}
+
+// Rear wheels with push rims (sport wheels cambered, tops inward) and front casters. Rear
+// wheels reach 8-16 cm above the seat (the seated pose puts the seat low).
+void add_push_wheels(Wheelchair& c, const SeatFrame& f, RandomStream& s,
+                     nlohmann::ordered_json& dims) {
+  const bool sport = c.type == WheelchairType::kSport;
+  const float r =
+      std::clamp((f.top - f.ground + static_cast<float>(s.uniform(0.08, 0.16))) / 2, 0.22f, 0.33f);
+  const float camber = sport ? static_cast<float>(s.uniform(12.0, 18.0)) * kPi / 180 : 0.0f;
+  const float axle_z = f.back + static_cast<float>(s.uniform(0.0, 0.08));
+  for (int side : {-1, 1}) {
+    const std::string sfx = side < 0 ? "_r" : "_l";
+    // Axis tilted so the wheel's top leans toward the chair (negative camber).
+    const Eigen::Vector3f axis(side * std::cos(camber), std::sin(camber), 0);
+    const float x = side * (f.hw + 0.05f + r * std::sin(camber));
+    const Eigen::Vector3f hub(x, f.ground + r * std::cos(camber), axle_z);
+    add_wheel(c.parts, "_rear" + sfx, hub, axis, r, 0.018f, /*push_rim=*/true, sport ? 12 : 8);
+    c.parts.push_back(tube("axle" + sfx, hub, {side * (f.hw + 0.012f), hub.y(), axle_z}, 0.01f));
+    const float cr = static_cast<float>(sport ? s.uniform(0.03, 0.05) : s.uniform(0.06, 0.1));
+    const float cz = f.front - 0.02f;
+    const float cx = side * (f.hw + 0.03f);
+    c.parts.push_back(
+        cylinder("caster" + sfx, {cx, f.ground + cr, cz}, {1, 0, 0}, 0.015f, cr, kTyre));
+  }
+  dims["rear_wheel_radius"] = r;
+  dims["camber_deg"] = camber * 180 / kPi;
+}
+
+// Power base: motors, battery box, six small wheels, and a headrest behind the head.
+void add_power_base(Wheelchair& c, const SeatFrame& f, const SeatFit& fit, RandomStream& s,
+                    nlohmann::ordered_json& dims) {
+  const float hw = f.hw, back = f.back, front = f.front, ground = f.ground;
+  const float base_top =
+      std::max(std::min(f.top - f.cushion - 0.05f, ground + 0.35f), ground + 0.14f);
+  c.parts.push_back(
+      box("base", {-hw + 0.03f, ground + 0.08f, back}, {hw - 0.03f, base_top, front}, kFrame));
+  c.parts.push_back(box("battery", {-hw + 0.06f, ground + 0.1f, back - 0.18f},
+                        {hw - 0.06f, base_top - 0.04f, back}, kTrim));
+  const float r = static_cast<float>(s.uniform(0.14, 0.18));
+  for (int side : {-1, 1}) {
+    const std::string sfx = side < 0 ? "_r" : "_l";
+    const float mid_z = (back + front) / 2;
+    c.parts.push_back(cylinder("drive_wheel" + sfx, {side * (hw + 0.03f), ground + r, mid_z},
+                               {1, 0, 0}, 0.04f, r, kTyre));
+    c.parts.push_back(cylinder("motor" + sfx, {side * (hw - 0.08f), ground + r, mid_z}, {1, 0, 0},
+                               0.06f, 0.06f, kTrim));
+    for (float z : {back - 0.1f, front + 0.03f}) {
+      c.parts.push_back(cylinder(std::string(z < back ? "rear" : "front") + "_caster" + sfx,
+                                 {side * (hw - 0.02f), ground + 0.07f, z}, {1, 0, 0}, 0.02f, 0.07f,
+                                 kTyre));
+    }
+  }
+  const float gap = 0.003f;
+  const float hr_z = std::min(fit.head_back_z - gap, back) - 0.04f;
+  c.parts.push_back(box("headrest", {-0.12f, fit.head_y - 0.08f, hr_z},
+                        {0.12f, fit.head_y + 0.08f, hr_z + 0.04f}, kUpholstery));
+  c.parts.push_back(tube("headrest_post", {0, f.top + f.back_h, back - f.back_t / 2},
+                         {0, fit.head_y - 0.08f, hr_z + 0.02f}, 0.01f));
+  dims["drive_wheel_radius"] = r;
+}
+
+// Armrests as high as the hanging arms allow; a power chair's joystick on the right one.
+void add_armrests(Wheelchair& c, const SeatFrame& f, const SeatFit& fit,
+                  nlohmann::ordered_json& dims) {
+  const float hw = f.hw, top = f.top, back = f.back, front = f.front;
+  const float arm_h = std::clamp(fit.armrest_limit - 0.01f, 0.12f, 0.26f);
+  for (int side : {-1, 1}) {
+    const std::string sfx = side < 0 ? "_r" : "_l";
+    const float x0 = side * (hw + 0.005f), x1 = side * (hw + 0.06f);
+    c.parts.push_back(box("armrest" + sfx, {std::min(x0, x1), top + arm_h - 0.04f, back + 0.03f},
+                          {std::max(x0, x1), top + arm_h, front - 0.05f}, kUpholstery));
+  }
+  if (c.type == WheelchairType::kPower) {
+    c.parts.push_back(box("joystick_box", {-hw - 0.07f, top + arm_h, front - 0.12f},
+                          {-hw - 0.01f, top + arm_h + 0.04f, front - 0.05f}, kTrim));
+    c.parts.push_back(cylinder("joystick", {-hw - 0.04f, top + arm_h + 0.07f, front - 0.085f},
+                               {0, 1, 0}, 0.03f, 0.008f, kFrame));
+  }
+  dims["armrest_height"] = arm_h;
+}
+
+}  // namespace
+
 Wheelchair make_wheelchair(WheelchairType type, const SeatFit& fit, RandomStream& s) {
   if (type == WheelchairType::kNone) {
     Wheelchair none;
@@ -247,123 +383,19 @@ Wheelchair make_wheelchair(WheelchairType type, const SeatFit& fit, RandomStream
   c.type = type;
   c.colours = {random_colour(s, 0.05f, 0.9f), random_colour(s, 0.02f, 0.25f),
                Eigen::Vector3f(0.05f, 0.05f, 0.05f), random_colour(s, 0.5f, 0.85f)};
-  const bool sport = type == WheelchairType::kSport;
-  const bool power = type == WheelchairType::kPower;
-  // Seat fitted to the body: width from the hips, depth from the thigh.
-  const float seat_w = fit.hip_width + static_cast<float>(s.uniform(0.02, 0.06));
-  const float gap = 0.003f;
-  const float top = fit.seat_top - gap;
-  const float back = fit.back_z - gap;
-  const float seat_d = std::min(fit.thigh_length * static_cast<float>(s.uniform(0.8, 0.92)),
-                                fit.seat_front_limit - back);
-  const float front = back + seat_d;
-  const float hw = seat_w / 2;
-  const float cushion = power ? 0.08f : 0.05f;
-  // Footplate height from the shin: the feet rest on it.
-  const float plate_top = fit.feet_bottom - gap;
-  const float plate_clearance = static_cast<float>(s.uniform(0.04, 0.08));
-  c.ground_y = plate_top - 0.02f - plate_clearance;
-  const float ground = c.ground_y;
-
-  c.parts.push_back(box("seat", {-hw, top - cushion, back}, {hw, top, front}, kUpholstery));
-  const float back_h = sport   ? static_cast<float>(s.uniform(0.18, 0.28))
-                       : power ? static_cast<float>(s.uniform(0.50, 0.60))
-                               : static_cast<float>(s.uniform(0.38, 0.48));
-  const float back_t = 0.03f;
-  c.parts.push_back(
-      box("backrest", {-hw, top, back - back_t}, {hw, top + back_h, back}, kUpholstery));
-  // Back posts / canes.
-  for (int side : {-1, 1}) {
-    const std::string sfx = side < 0 ? "_r" : "_l";
-    const float x = side * (hw + 0.012f);
-    c.parts.push_back(tube("back_post" + sfx, {x, top - cushion, back - back_t},
-                           {x, top + back_h + (sport ? 0.0f : 0.05f), back - back_t}, 0.012f));
-    c.parts.push_back(tube("seat_rail" + sfx, {x, top - cushion, back - back_t},
-                           {x, top - cushion, front}, 0.012f));
-    c.parts.push_back(
-        tube("front_post" + sfx, {x, top - cushion, front}, {x, plate_top, fit.feet_z}, 0.012f));
-  }
-  // Footplate under the feet.
-  const float plate_d = static_cast<float>(s.uniform(0.14, 0.2));
-  c.parts.push_back(box("footplate", {-hw, plate_top - 0.02f, fit.feet_z - plate_d / 2},
-                        {hw, plate_top, fit.feet_z + plate_d / 2}, kTrim));
+  const SeatFrame f = add_seat_frame(c, fit, s);
   nlohmann::ordered_json dims = {{"type", wheelchair_type_name(type)},
-                                 {"seat_width", seat_w},
-                                 {"seat_depth", seat_d},
-                                 {"seat_height", top - ground},
-                                 {"backrest_height", back_h},
-                                 {"footplate_height", plate_top - ground}};
-
-  if (!power) {
-    // Rear wheels with push rims; sport wheels are cambered (tops inward).
-    // Rear wheels reach 8-16 cm above the seat (the seated pose puts the seat low).
-    const float r =
-        std::clamp((top - ground + static_cast<float>(s.uniform(0.08, 0.16))) / 2, 0.22f, 0.33f);
-    const float camber = sport ? static_cast<float>(s.uniform(12.0, 18.0)) * kPi / 180 : 0.0f;
-    const float axle_z = back + static_cast<float>(s.uniform(0.0, 0.08));
-    for (int side : {-1, 1}) {
-      const std::string sfx = side < 0 ? "_r" : "_l";
-      // Axis tilted so the wheel's top leans toward the chair (negative camber).
-      const Eigen::Vector3f axis(side * std::cos(camber), std::sin(camber), 0);
-      const float x = side * (hw + 0.05f + r * std::sin(camber));
-      const Eigen::Vector3f hub(x, ground + r * std::cos(camber), axle_z);
-      add_wheel(c.parts, "_rear" + sfx, hub, axis, r, 0.018f, /*push_rim=*/true, sport ? 12 : 8);
-      c.parts.push_back(tube("axle" + sfx, hub, {side * (hw + 0.012f), hub.y(), axle_z}, 0.01f));
-      const float cr = static_cast<float>(sport ? s.uniform(0.03, 0.05) : s.uniform(0.06, 0.1));
-      const float cz = front - 0.02f;
-      const float cx = side * (hw + 0.03f);
-      c.parts.push_back(
-          cylinder("caster" + sfx, {cx, ground + cr, cz}, {1, 0, 0}, 0.015f, cr, kTyre));
-    }
-    dims["rear_wheel_radius"] = r;
-    dims["camber_deg"] = camber * 180 / kPi;
+                                 {"seat_width", f.seat_w},
+                                 {"seat_depth", f.seat_d},
+                                 {"seat_height", f.top - f.ground},
+                                 {"backrest_height", f.back_h},
+                                 {"footplate_height", f.plate_top - f.ground}};
+  if (type == WheelchairType::kPower) {
+    add_power_base(c, f, fit, s, dims);
   } else {
-    // Power base: motors, battery box, six small wheels.
-    const float base_top =
-        std::max(std::min(top - cushion - 0.05f, ground + 0.35f), ground + 0.14f);
-    c.parts.push_back(
-        box("base", {-hw + 0.03f, ground + 0.08f, back}, {hw - 0.03f, base_top, front}, kFrame));
-    c.parts.push_back(box("battery", {-hw + 0.06f, ground + 0.1f, back - 0.18f},
-                          {hw - 0.06f, base_top - 0.04f, back}, kTrim));
-    const float r = static_cast<float>(s.uniform(0.14, 0.18));
-    for (int side : {-1, 1}) {
-      const std::string sfx = side < 0 ? "_r" : "_l";
-      const float mid_z = (back + front) / 2;
-      c.parts.push_back(cylinder("drive_wheel" + sfx, {side * (hw + 0.03f), ground + r, mid_z},
-                                 {1, 0, 0}, 0.04f, r, kTyre));
-      c.parts.push_back(cylinder("motor" + sfx, {side * (hw - 0.08f), ground + r, mid_z}, {1, 0, 0},
-                                 0.06f, 0.06f, kTrim));
-      for (float z : {back - 0.1f, front + 0.03f}) {
-        c.parts.push_back(cylinder(std::string(z < back ? "rear" : "front") + "_caster" + sfx,
-                                   {side * (hw - 0.02f), ground + 0.07f, z}, {1, 0, 0}, 0.02f,
-                                   0.07f, kTyre));
-      }
-    }
-    // Headrest behind the head.
-    const float hr_z = std::min(fit.head_back_z - gap, back) - 0.04f;
-    c.parts.push_back(box("headrest", {-0.12f, fit.head_y - 0.08f, hr_z},
-                          {0.12f, fit.head_y + 0.08f, hr_z + 0.04f}, kUpholstery));
-    c.parts.push_back(tube("headrest_post", {0, top + back_h, back - back_t / 2},
-                           {0, fit.head_y - 0.08f, hr_z + 0.02f}, 0.01f));
-    dims["drive_wheel_radius"] = r;
+    add_push_wheels(c, f, s, dims);
   }
-  if (!sport) {
-    // Armrests, as high as the hanging arms allow.
-    const float arm_h = std::clamp(fit.armrest_limit - 0.01f, 0.12f, 0.26f);
-    for (int side : {-1, 1}) {
-      const std::string sfx = side < 0 ? "_r" : "_l";
-      const float x0 = side * (hw + 0.005f), x1 = side * (hw + 0.06f);
-      c.parts.push_back(box("armrest" + sfx, {std::min(x0, x1), top + arm_h - 0.04f, back + 0.03f},
-                            {std::max(x0, x1), top + arm_h, front - 0.05f}, kUpholstery));
-    }
-    if (power) {
-      c.parts.push_back(box("joystick_box", {-hw - 0.07f, top + arm_h, front - 0.12f},
-                            {-hw - 0.01f, top + arm_h + 0.04f, front - 0.05f}, kTrim));
-      c.parts.push_back(cylinder("joystick", {-hw - 0.04f, top + arm_h + 0.07f, front - 0.085f},
-                                 {0, 1, 0}, 0.03f, 0.008f, kFrame));
-    }
-    dims["armrest_height"] = arm_h;
-  }
+  if (type != WheelchairType::kSport) add_armrests(c, f, fit, dims);
   dims["colours"] = nlohmann::ordered_json::array();
   for (const auto& col : c.colours) dims["colours"].push_back({col.x(), col.y(), col.z()});
   c.dimensions = std::move(dims);
