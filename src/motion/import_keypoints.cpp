@@ -172,132 +172,168 @@ const std::vector<ImportMapping>& keypoint_mappings() {
   return mappings;
 }
 
+namespace {
+
+// A keypoint CSV read line by line: "# fps" comments, the header (long form
+// "frame,joint,x,y,z" or wide form "frame,<joint>_x,<joint>_y,<joint>_z,..."), then rows.
+class CsvKeypoints {
+ public:
+  CsvKeypoints(std::string where, const ImportMapping& mapping)
+      : where_(std::move(where)), mapping_(mapping) {}
+
+  void add_line(std::string_view line, int line_number) {
+    const std::string at = where_ + ":" + std::to_string(line_number);
+    if (line.empty()) return;
+    if (line[0] == '#') return read_comment(line, at);
+    std::vector<std::string_view> cells = split_csv(line);
+    if (header_.empty()) return read_header(std::move(cells), at, line_number);
+    if (cells.size() != header_.size()) {
+      throw Error(at + ": " + std::to_string(cells.size()) + " values, expected " +
+                  std::to_string(header_.size()) + " (as in the header on line " +
+                  std::to_string(header_line_) + ")");
+    }
+    const long frame = csv_frame(cells[0], at);
+    if (wide_) {
+      add_wide_row(cells, frame, at);
+    } else {
+      add_long_row(cells, frame, at, line_number);
+    }
+  }
+
+  // The frames read; throws for a file without a header or a long form with gaps.
+  RawSequence finish() {
+    if (header_.empty()) throw Error(where_ + ": empty CSV file (no header)");
+    if (!wide_) long_rows_to_frames();
+    return std::move(raw_);
+  }
+
+ private:
+  // "# fps: 30" or "# fps = 30"; other comments are ignored.
+  void read_comment(std::string_view line, const std::string& at) {
+    std::string_view body = trim(line.substr(1));
+    if (body.substr(0, 3) != "fps") return;
+    body = trim(body.substr(3));
+    if (!body.empty() && (body[0] == ':' || body[0] == '=')) body = trim(body.substr(1));
+    double fps = csv_number(body, at, "fps");
+    if (fps <= 0) throw Error(at + ": fps must be positive");
+    raw_.fps = fps;
+  }
+
+  void read_header(std::vector<std::string_view> cells, const std::string& at, int line_number) {
+    header_ = std::move(cells);
+    header_line_ = line_number;
+    if (header_.size() == 5 && header_[0] == "frame" && header_[1] == "joint" &&
+        header_[2] == "x" && header_[3] == "y" && header_[4] == "z") {
+      return;
+    }
+    wide_ = true;
+    if (header_[0] != "frame" || header_.size() < 4 || (header_.size() - 1) % 3 != 0) {
+      throw Error(at + ": header must be 'frame,joint,x,y,z' or 'frame,<joint>_x,<joint>_y," +
+                  "<joint>_z,...'");
+    }
+    for (std::size_t c = 1; c < header_.size(); c += 3) {
+      std::string_view col = header_[c];
+      if (col.size() < 3 || col.substr(col.size() - 2) != "_x") {
+        throw Error(at + ": column " + std::to_string(c + 1) + " '" + std::string(col) +
+                    "' should be '<joint>_x'");
+      }
+      std::string name(col.substr(0, col.size() - 2));
+      if (header_[c + 1] != name + "_y" || header_[c + 2] != name + "_z") {
+        throw Error(at + ": columns after '" + std::string(col) + "' should be '" + name + "_y," +
+                    name + "_z'");
+      }
+      if (!is_known(mapping_, name)) throw Error(at + ": " + unknown_joint(mapping_, name));
+      if (std::find(raw_.names.begin(), raw_.names.end(), name) != raw_.names.end()) {
+        throw Error(at + ": joint '" + name + "' appears twice in the header");
+      }
+      raw_.names.push_back(name);
+    }
+  }
+
+  // Wide form: one frame per row, in order.
+  void add_wide_row(const std::vector<std::string_view>& cells, long frame, const std::string& at) {
+    if (last_frame_ && frame != *last_frame_ + 1) {
+      throw Error(at + ": frame " + std::to_string(frame) + " follows frame " +
+                  std::to_string(*last_frame_) + " (frames must be consecutive)");
+    }
+    last_frame_ = frame;
+    std::vector<Eigen::Vector3d> points(raw_.names.size());
+    for (std::size_t k = 0; k < raw_.names.size(); ++k) {
+      std::string context = "frame " + std::to_string(frame) + ", joint " + raw_.names[k];
+      for (int a = 0; a < 3; ++a) points[k][a] = csv_number(cells[1 + 3 * k + a], at, context);
+    }
+    raw_.frames.push_back(std::move(points));
+  }
+
+  // Long form: one joint per row, collected per frame number.
+  void add_long_row(const std::vector<std::string_view>& cells, long frame, const std::string& at,
+                    int line_number) {
+    std::string name(cells[1]);
+    if (!is_known(mapping_, name)) throw Error(at + ": " + unknown_joint(mapping_, name));
+    std::string context = "frame " + std::to_string(frame) + ", joint " + name;
+    Eigen::Vector3d p;
+    for (int a = 0; a < 3; ++a) p[a] = csv_number(cells[2 + a], at, context);
+    auto& frame_rows = long_rows_[frame];
+    if (frame_rows.contains(name)) {
+      throw Error(at + ": joint '" + name + "' appears twice in frame " + std::to_string(frame) +
+                  " (first on line " + std::to_string(frame_rows[name].second) + ")");
+    }
+    frame_rows[name] = {p, line_number};
+    if (std::find(raw_.names.begin(), raw_.names.end(), name) == raw_.names.end()) {
+      raw_.names.push_back(name);
+    }
+  }
+
+  void long_rows_to_frames() {
+    std::optional<long> previous;
+    for (const auto& [frame, rows] : long_rows_) {
+      if (previous && frame != *previous + 1) {
+        throw Error(where_ + ": frame " + std::to_string(*previous + 1) +
+                    " has no rows (frames must be consecutive)");
+      }
+      previous = frame;
+      std::vector<Eigen::Vector3d> points(raw_.names.size());
+      for (std::size_t k = 0; k < raw_.names.size(); ++k) {
+        auto it = rows.find(raw_.names[k]);
+        if (it == rows.end()) {
+          throw Error(where_ + ": frame " + std::to_string(frame) + " has no row for joint '" +
+                      raw_.names[k] + "' (other frames have one)");
+        }
+        points[k] = it->second.first;
+      }
+      raw_.frames.push_back(std::move(points));
+    }
+  }
+
+  const std::string where_;
+  const ImportMapping& mapping_;
+  RawSequence raw_;
+  std::vector<std::string_view> header_;
+  int header_line_ = 0;
+  bool wide_ = false;
+  std::optional<long> last_frame_;  // wide form
+  // Long form: per frame number, each joint's point and line.
+  std::map<long, std::map<std::string, std::pair<Eigen::Vector3d, int>>> long_rows_;
+};
+
+}  // namespace
+
 PositionClip import_keypoints_csv(const std::filesystem::path& path, const ImportOptions& options) {
   const std::string where = path.string();
   const ImportMapping& mapping = find_mapping(options.mapping, where);
   std::string text = read_file(path);
   // Spreadsheet programs may start a UTF-8 CSV with a byte-order mark.
   if (text.starts_with("\xEF\xBB\xBF")) text.erase(0, 3);
-  RawSequence raw;
-
-  std::vector<std::string_view> header;
-  int header_line = 0;
-  // Long form collects rows per frame number; wide form appends frames in order.
-  std::map<long, std::map<std::string, std::pair<Eigen::Vector3d, int>>> long_rows;
-  std::optional<long> last_frame;
-  bool wide = false;
-
+  CsvKeypoints csv(where, mapping);
   std::size_t start = 0;
   int line_number = 0;
   while (start < text.size()) {
     std::size_t end = text.find('\n', start);
     if (end == std::string::npos) end = text.size();
-    std::string_view line = trim(std::string_view(text).substr(start, end - start));
+    csv.add_line(trim(std::string_view(text).substr(start, end - start)), ++line_number);
     start = end + 1;
-    ++line_number;
-    const std::string at = where + ":" + std::to_string(line_number);
-    if (line.empty()) continue;
-    if (line[0] == '#') {
-      // "# fps: 30" or "# fps = 30"; other comments are ignored.
-      std::string_view body = trim(line.substr(1));
-      if (body.substr(0, 3) == "fps") {
-        body = trim(body.substr(3));
-        if (!body.empty() && (body[0] == ':' || body[0] == '=')) body = trim(body.substr(1));
-        double fps = csv_number(body, at, "fps");
-        if (fps <= 0) throw Error(at + ": fps must be positive");
-        raw.fps = fps;
-      }
-      continue;
-    }
-    std::vector<std::string_view> cells = split_csv(line);
-    if (header.empty()) {
-      header = cells;
-      header_line = line_number;
-      if (header.size() == 5 && header[0] == "frame" && header[1] == "joint" && header[2] == "x" &&
-          header[3] == "y" && header[4] == "z") {
-        continue;
-      }
-      wide = true;
-      if (header[0] != "frame" || header.size() < 4 || (header.size() - 1) % 3 != 0) {
-        throw Error(at + ": header must be 'frame,joint,x,y,z' or 'frame,<joint>_x,<joint>_y," +
-                    "<joint>_z,...'");
-      }
-      for (std::size_t c = 1; c < header.size(); c += 3) {
-        std::string_view col = header[c];
-        if (col.size() < 3 || col.substr(col.size() - 2) != "_x") {
-          throw Error(at + ": column " + std::to_string(c + 1) + " '" + std::string(col) +
-                      "' should be '<joint>_x'");
-        }
-        std::string name(col.substr(0, col.size() - 2));
-        if (header[c + 1] != name + "_y" || header[c + 2] != name + "_z") {
-          throw Error(at + ": columns after '" + std::string(col) + "' should be '" + name + "_y," +
-                      name + "_z'");
-        }
-        if (!is_known(mapping, name)) throw Error(at + ": " + unknown_joint(mapping, name));
-        if (std::find(raw.names.begin(), raw.names.end(), name) != raw.names.end()) {
-          throw Error(at + ": joint '" + name + "' appears twice in the header");
-        }
-        raw.names.push_back(name);
-      }
-      continue;
-    }
-    if (cells.size() != header.size()) {
-      throw Error(at + ": " + std::to_string(cells.size()) + " values, expected " +
-                  std::to_string(header.size()) + " (as in the header on line " +
-                  std::to_string(header_line) + ")");
-    }
-    long frame = csv_frame(cells[0], at);
-    if (wide) {
-      if (last_frame && frame != *last_frame + 1) {
-        throw Error(at + ": frame " + std::to_string(frame) + " follows frame " +
-                    std::to_string(*last_frame) + " (frames must be consecutive)");
-      }
-      last_frame = frame;
-      std::vector<Eigen::Vector3d> points(raw.names.size());
-      for (std::size_t k = 0; k < raw.names.size(); ++k) {
-        std::string context = "frame " + std::to_string(frame) + ", joint " + raw.names[k];
-        for (int a = 0; a < 3; ++a) points[k][a] = csv_number(cells[1 + 3 * k + a], at, context);
-      }
-      raw.frames.push_back(std::move(points));
-    } else {
-      std::string name(cells[1]);
-      if (!is_known(mapping, name)) throw Error(at + ": " + unknown_joint(mapping, name));
-      std::string context = "frame " + std::to_string(frame) + ", joint " + name;
-      Eigen::Vector3d p;
-      for (int a = 0; a < 3; ++a) p[a] = csv_number(cells[2 + a], at, context);
-      auto& frame_rows = long_rows[frame];
-      if (frame_rows.contains(name)) {
-        throw Error(at + ": joint '" + name + "' appears twice in frame " + std::to_string(frame) +
-                    " (first on line " + std::to_string(frame_rows[name].second) + ")");
-      }
-      frame_rows[name] = {p, line_number};
-      if (std::find(raw.names.begin(), raw.names.end(), name) == raw.names.end()) {
-        raw.names.push_back(name);
-      }
-    }
   }
-  if (header.empty()) throw Error(where + ": empty CSV file (no header)");
-  if (!wide) {
-    std::optional<long> previous;
-    for (const auto& [frame, rows] : long_rows) {
-      if (previous && frame != *previous + 1) {
-        throw Error(where + ": frame " + std::to_string(*previous + 1) +
-                    " has no rows (frames must be consecutive)");
-      }
-      previous = frame;
-      std::vector<Eigen::Vector3d> points(raw.names.size());
-      for (std::size_t k = 0; k < raw.names.size(); ++k) {
-        auto it = rows.find(raw.names[k]);
-        if (it == rows.end()) {
-          throw Error(where + ": frame " + std::to_string(frame) + " has no row for joint '" +
-                      raw.names[k] + "' (other frames have one)");
-        }
-        points[k] = it->second.first;
-      }
-      raw.frames.push_back(std::move(points));
-    }
-  }
-  return finish(path, options, mapping, raw);
+  return finish(path, options, mapping, csv.finish());
 }
 
 PositionClip import_keypoints_json(const std::filesystem::path& path,
