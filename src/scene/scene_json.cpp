@@ -393,6 +393,116 @@ Camera read_camera(const Reader& r) {
   return c;
 }
 
+Material read_material(const Reader& r) {
+  r.allow({"name", "diffuse", "specular", "shininess", "hue_offset_deg", "texture"});
+  Material m;
+  r.read("name", m.name);
+  r.read("diffuse", m.diffuse);
+  r.read_range("specular", m.specular, 0.0f, 100.0f);
+  r.read_range("shininess", m.shininess, 0.0f, 1e5f);
+  r.read_range("hue_offset_deg", m.hue_offset_deg, -360.0f, 360.0f);
+  if (r.has("texture")) m.texture = read_texture(r.child("texture"));
+  return m;
+}
+
+// An instance of one of `scene`'s meshes with one of its materials, placed by a 4×4
+// 'transform' or by translation, rotation_deg (X, then Y, then Z, extrinsic) and scale.
+Instance read_instance(const Reader& r, const Scene& scene) {
+  r.allow({"name", "mesh", "material", "transform", "translation", "rotation_deg", "scale",
+           "instance_id", "semantic_id"});
+  Instance in;
+  r.read("name", in.name);
+  if (!r.has("mesh")) r.fail("missing 'mesh' (an index into /meshes)");
+  r.read("mesh", in.mesh, 0, static_cast<int>(scene.meshes.size()) - 1);
+  if (scene.materials.empty()) r.fail("no materials are defined");
+  r.read("material", in.material, 0, static_cast<int>(scene.materials.size()) - 1);
+  if (r.has("transform")) {
+    if (r.has("translation") || r.has("rotation_deg") || r.has("scale")) {
+      r.fail("give 'transform' or translation/rotation_deg/scale, not both");
+    }
+    in.transform = read_transform(r, "transform");
+  } else {
+    Eigen::Vector3f t = Eigen::Vector3f::Zero(), rot = Eigen::Vector3f::Zero(),
+                    sc = Eigen::Vector3f::Ones();
+    r.read("translation", t);
+    r.read("rotation_deg", rot);
+    r.read("scale", sc);
+    if ((sc.array().abs() < 1e-9f).any()) r.fail_at(r.at("scale"), "scale must not be zero");
+    Eigen::Affine3f a = Eigen::Translation3f(t) * euler_xyz_deg(rot) * Eigen::Scaling(sc);
+    in.transform = a.matrix();
+  }
+  int id = 0;
+  r.read("instance_id", id, 0, 65535);
+  in.instance_id = static_cast<std::uint16_t>(id);
+  id = 0;
+  r.read("semantic_id", id, 0, 65535);
+  in.semantic_id = static_cast<std::uint16_t>(id);
+  return in;
+}
+
+// The sun, by 'direction' or by a 'solar' position (hour, day of year, latitude).
+void read_sun(const Reader& r, Sun& sun) {
+  r.allow({"enabled", "direction", "solar", "color", "intensity", "angular_radius_deg"});
+  r.read("enabled", sun.enabled);
+  if (r.has("direction") && r.has("solar")) r.fail("give 'direction' or 'solar', not both");
+  r.read("direction", sun.direction);
+  if (sun.direction.norm() < 1e-6f) r.fail_at(r.at("direction"), "direction must not be zero");
+  if (r.has("solar")) {
+    const Reader p = r.child("solar");
+    p.allow({"hour", "day_of_year", "latitude_deg"});
+    SolarPosition sp;
+    p.read_range("hour", sp.hour, 0.0f, 24.0f);
+    p.read_range("day_of_year", sp.day_of_year, 0.0f, 366.0f);
+    p.read_range("latitude_deg", sp.latitude_deg, -90.0f, 90.0f);
+    sun.solar = sp;
+  }
+  r.read("color", sun.color);
+  r.read_range("intensity", sun.intensity, 0.0f, 1e9f);
+  r.read_range("angular_radius_deg", sun.angular_radius_deg, 0.0f, 45.0f);
+}
+
+PointLight read_point_light(const Reader& r) {
+  r.allow({"position", "color", "intensity", "radius", "on"});
+  PointLight l;
+  r.read("position", l.position);
+  r.read("color", l.color);
+  r.read_range("intensity", l.intensity, 0.0f, 1e9f);
+  r.read_range("radius", l.radius, 0.0f, 1e3f);
+  r.read("on", l.on);
+  return l;
+}
+
+Environment read_environment(const Reader& r) {
+  r.allow({"path", "color", "intensity", "rotation_deg"});
+  Environment e;
+  r.read("path", e.path);
+  r.read("color", e.color);
+  r.read_range("intensity", e.intensity, 0.0f, 1e9f);
+  r.read("rotation_deg", e.rotation_deg);
+  return e;
+}
+
+void read_post(const Reader& r, PostProcess& p) {
+  r.allow({"exposure_ev", "temperature", "contrast", "saturation", "vignette", "bloom",
+           "bloom_threshold", "film_grain", "lens_blur"});
+  r.read_range("exposure_ev", p.exposure_ev, -20.0f, 20.0f);
+  r.read_range("temperature", p.temperature, -100.0f, 100.0f);
+  r.read_range("contrast", p.contrast, -100.0f, 100.0f);
+  r.read_range("saturation", p.saturation, -100.0f, 100.0f);
+  r.read_range("vignette", p.vignette, 0.0f, 1.0f);
+  r.read_range("bloom", p.bloom, 0.0f, 1.0f);
+  r.read_range("bloom_threshold", p.bloom_threshold, 0.0f, 1e6f);
+  r.read_range("film_grain", p.film_grain, 0.0f, 1.0f);
+  r.read_range("lens_blur", p.lens_blur, 0.0f, 64.0f);
+}
+
+void read_background(const Reader& r, Background& background) {
+  r.allow({"color", "texture", "image"});
+  r.read("color", background.color);
+  if (r.has("texture")) background.texture = read_texture(r.child("texture"));
+  r.read("image", background.image);
+}
+
 }  // namespace
 
 Scene scene_from_json(const json& j, const std::string& origin) {
@@ -412,111 +522,13 @@ Scene scene_from_json(const json& j, const std::string& origin) {
     }
   };
   each("meshes", [&](const Reader& r) { s.meshes.push_back(read_mesh(r)); });
-  each("materials", [&](const Reader& r) {
-    r.allow({"name", "diffuse", "specular", "shininess", "hue_offset_deg", "texture"});
-    Material m;
-    r.read("name", m.name);
-    r.read("diffuse", m.diffuse);
-    r.read_range("specular", m.specular, 0.0f, 100.0f);
-    r.read_range("shininess", m.shininess, 0.0f, 1e5f);
-    r.read_range("hue_offset_deg", m.hue_offset_deg, -360.0f, 360.0f);
-    if (r.has("texture")) m.texture = read_texture(r.child("texture"));
-    s.materials.push_back(m);
-  });
-  each("instances", [&](const Reader& r) {
-    r.allow({"name", "mesh", "material", "transform", "translation", "rotation_deg", "scale",
-             "instance_id", "semantic_id"});
-    Instance in;
-    r.read("name", in.name);
-    if (!r.has("mesh")) r.fail("missing 'mesh' (an index into /meshes)");
-    r.read("mesh", in.mesh, 0, static_cast<int>(s.meshes.size()) - 1);
-    if (s.materials.empty()) r.fail("no materials are defined");
-    r.read("material", in.material, 0, static_cast<int>(s.materials.size()) - 1);
-    if (r.has("transform")) {
-      if (r.has("translation") || r.has("rotation_deg") || r.has("scale")) {
-        r.fail("give 'transform' or translation/rotation_deg/scale, not both");
-      }
-      in.transform = read_transform(r, "transform");
-    } else {
-      Eigen::Vector3f t = Eigen::Vector3f::Zero(), rot = Eigen::Vector3f::Zero(),
-                      sc = Eigen::Vector3f::Ones();
-      r.read("translation", t);
-      r.read("rotation_deg", rot);  // applied X, then Y, then Z (extrinsic)
-      r.read("scale", sc);
-      if ((sc.array().abs() < 1e-9f).any()) r.fail_at(r.at("scale"), "scale must not be zero");
-      Eigen::Affine3f a = Eigen::Translation3f(t) * euler_xyz_deg(rot) * Eigen::Scaling(sc);
-      in.transform = a.matrix();
-    }
-    int id = 0;
-    r.read("instance_id", id, 0, 65535);
-    in.instance_id = static_cast<std::uint16_t>(id);
-    id = 0;
-    r.read("semantic_id", id, 0, 65535);
-    in.semantic_id = static_cast<std::uint16_t>(id);
-    s.instances.push_back(in);
-  });
-  if (root.has("sun")) {
-    const Reader r = root.child("sun");
-    r.allow({"enabled", "direction", "solar", "color", "intensity", "angular_radius_deg"});
-    r.read("enabled", s.sun.enabled);
-    if (r.has("direction") && r.has("solar")) r.fail("give 'direction' or 'solar', not both");
-    r.read("direction", s.sun.direction);
-    if (s.sun.direction.norm() < 1e-6f) r.fail_at(r.at("direction"), "direction must not be zero");
-    if (r.has("solar")) {
-      const Reader p = r.child("solar");
-      p.allow({"hour", "day_of_year", "latitude_deg"});
-      SolarPosition sp;
-      p.read_range("hour", sp.hour, 0.0f, 24.0f);
-      p.read_range("day_of_year", sp.day_of_year, 0.0f, 366.0f);
-      p.read_range("latitude_deg", sp.latitude_deg, -90.0f, 90.0f);
-      s.sun.solar = sp;
-    }
-    r.read("color", s.sun.color);
-    r.read_range("intensity", s.sun.intensity, 0.0f, 1e9f);
-    r.read_range("angular_radius_deg", s.sun.angular_radius_deg, 0.0f, 45.0f);
-  }
-  each("point_lights", [&](const Reader& r) {
-    r.allow({"position", "color", "intensity", "radius", "on"});
-    PointLight l;
-    r.read("position", l.position);
-    r.read("color", l.color);
-    r.read_range("intensity", l.intensity, 0.0f, 1e9f);
-    r.read_range("radius", l.radius, 0.0f, 1e3f);
-    r.read("on", l.on);
-    s.point_lights.push_back(l);
-  });
-  if (root.has("environment")) {
-    const Reader r = root.child("environment");
-    r.allow({"path", "color", "intensity", "rotation_deg"});
-    Environment e;
-    r.read("path", e.path);
-    r.read("color", e.color);
-    r.read_range("intensity", e.intensity, 0.0f, 1e9f);
-    r.read("rotation_deg", e.rotation_deg);
-    s.environment = e;
-  }
-  if (root.has("post")) {
-    const Reader r = root.child("post");
-    r.allow({"exposure_ev", "temperature", "contrast", "saturation", "vignette", "bloom",
-             "bloom_threshold", "film_grain", "lens_blur"});
-    PostProcess& p = s.post;
-    r.read_range("exposure_ev", p.exposure_ev, -20.0f, 20.0f);
-    r.read_range("temperature", p.temperature, -100.0f, 100.0f);
-    r.read_range("contrast", p.contrast, -100.0f, 100.0f);
-    r.read_range("saturation", p.saturation, -100.0f, 100.0f);
-    r.read_range("vignette", p.vignette, 0.0f, 1.0f);
-    r.read_range("bloom", p.bloom, 0.0f, 1.0f);
-    r.read_range("bloom_threshold", p.bloom_threshold, 0.0f, 1e6f);
-    r.read_range("film_grain", p.film_grain, 0.0f, 1.0f);
-    r.read_range("lens_blur", p.lens_blur, 0.0f, 64.0f);
-  }
-  if (root.has("background")) {
-    const Reader r = root.child("background");
-    r.allow({"color", "texture", "image"});
-    r.read("color", s.background.color);
-    if (r.has("texture")) s.background.texture = read_texture(r.child("texture"));
-    r.read("image", s.background.image);
-  }
+  each("materials", [&](const Reader& r) { s.materials.push_back(read_material(r)); });
+  each("instances", [&](const Reader& r) { s.instances.push_back(read_instance(r, s)); });
+  if (root.has("sun")) read_sun(root.child("sun"), s.sun);
+  each("point_lights", [&](const Reader& r) { s.point_lights.push_back(read_point_light(r)); });
+  if (root.has("environment")) s.environment = read_environment(root.child("environment"));
+  if (root.has("post")) read_post(root.child("post"), s.post);
+  if (root.has("background")) read_background(root.child("background"), s.background);
   return s;
 }
 
