@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
+#include <string>
 
 namespace wheelpose::eval {
 namespace {
@@ -9,6 +11,35 @@ namespace {
 using nlohmann::json;
 
 json number_or_null(std::optional<double> v) { return v ? json(*v) : json(nullptr); }
+
+// The per-keypoint metrics every report shows, in column order: a new metric is a field of
+// KeypointStats (computed in keypoint_metrics.cpp) and a row here.
+struct MetricColumn {
+  const char* key;     // in metrics.json
+  const char* header;  // in Markdown tables; (+) higher is better, (-) lower is better
+  const char* format;
+  std::optional<double> KeypointStats::*value;
+};
+constexpr MetricColumn kMetricColumns[] = {
+    {"pdj5", "PDJ@5 (+)", "%.3f", &KeypointStats::pdj5},
+    {"pjpe", "PJPE (-)", "%.2f", &KeypointStats::pjpe},
+    {"oks50", "OKS50 (+)", "%.3f", &KeypointStats::oks50},
+    {"oks75", "OKS75 (+)", "%.3f", &KeypointStats::oks75},
+};
+
+// "| Keypoint | <metric headers> | <extra>... |" and its separator row.
+std::string table_header(std::initializer_list<const char*> extra) {
+  std::string head = "| Keypoint |", rule = "|---|";
+  for (const MetricColumn& c : kMetricColumns) {
+    head += std::string(" ") + c.header + " |";
+    rule += "---|";
+  }
+  for (const char* e : extra) {
+    head += std::string(" ") + e + " |";
+    rule += "---|";
+  }
+  return head + "\n" + rule + "\n";
+}
 
 std::optional<double> stat_value(const std::optional<EvalSummary>& s, const std::string& key) {
   if (!s) return std::nullopt;
@@ -29,12 +60,9 @@ json summary_json(const EvalSummary& s) {
 }
 
 json stats_json(const KeypointStats& k) {
-  return json{{"count", k.count},
-              {"missed", k.missed},
-              {"pdj5", number_or_null(k.pdj5)},
-              {"pjpe", number_or_null(k.pjpe)},
-              {"oks50", number_or_null(k.oks50)},
-              {"oks75", number_or_null(k.oks75)}};
+  json out{{"count", k.count}, {"missed", k.missed}};
+  for (const MetricColumn& c : kMetricColumns) out[c.key] = number_or_null(k.*c.value);
+  return out;
 }
 
 json metrics_json_of(const KeypointMetrics& m) {
@@ -47,10 +75,11 @@ json metrics_json_of(const KeypointMetrics& m) {
 }
 
 json stats_change(const KeypointStats& ours, const KeypointStats& base) {
-  return json{{"pdj5", number_or_null(percent_change(ours.pdj5, base.pdj5))},
-              {"pjpe", number_or_null(percent_change(ours.pjpe, base.pjpe))},
-              {"oks50", number_or_null(percent_change(ours.oks50, base.oks50))},
-              {"oks75", number_or_null(percent_change(ours.oks75, base.oks75))}};
+  json out = json::object();
+  for (const MetricColumn& c : kMetricColumns) {
+    out[c.key] = number_or_null(percent_change(ours.*c.value, base.*c.value));
+  }
+  return out;
 }
 
 json summary_change(const EvalSummary& ours, const std::optional<EvalSummary>& base) {
@@ -123,13 +152,11 @@ json metrics_json(const std::string& gt_path, const std::string& template_name,
 }
 
 std::string keypoint_table_markdown(const KeypointMetrics& m) {
-  std::string out =
-      "| Keypoint | PDJ@5 (+) | PJPE (-) | OKS50 (+) | OKS75 (+) | Keypoints | Missed |\n"
-      "|---|---|---|---|---|---|---|\n";
+  std::string out = table_header({"Keypoints", "Missed"});
   for (const KeypointStats* k : rows(m)) {
-    out += "| " + k->name + " | " + fmt(k->pdj5, "%.3f") + " | " + fmt(k->pjpe, "%.2f") + " | " +
-           fmt(k->oks50, "%.3f") + " | " + fmt(k->oks75, "%.3f") + " | " +
-           std::to_string(k->count) + " | " + std::to_string(k->missed) + " |\n";
+    out += "| " + k->name + " |";
+    for (const MetricColumn& c : kMetricColumns) out += " " + fmt(k->*c.value, c.format) + " |";
+    out += " " + std::to_string(k->count) + " | " + std::to_string(k->missed) + " |\n";
   }
   out += "\nMatched people: " + std::to_string(m.pairs) + " of " + std::to_string(m.gt_people) +
          " (missed " + std::to_string(m.missed_people) + ").\n";
@@ -153,15 +180,14 @@ std::string comparison_markdown(const ResultReport& ours, const ResultReport& ba
   if (ours.keypoint_metrics && base.keypoint_metrics) {
     const KeypointMetrics& a = *ours.keypoint_metrics;
     const KeypointMetrics& b = *base.keypoint_metrics;
-    out +=
-        "\n## Keypoint breakdown (ours, percent change vs baseline)\n\n"
-        "| Keypoint | PDJ@5 (+) | PJPE (-) | OKS50 (+) | OKS75 (+) |\n|---|---|---|---|---|\n";
+    out += "\n## Keypoint breakdown (ours, percent change vs baseline)\n\n" + table_header({});
     const auto ra = rows(a), rb = rows(b);
     for (std::size_t i = 0; i < ra.size() && i < rb.size(); ++i) {
-      out += "| " + ra[i]->name + " | " + with_change(ra[i]->pdj5, rb[i]->pdj5, "%.3f") + " | " +
-             with_change(ra[i]->pjpe, rb[i]->pjpe, "%.2f") + " | " +
-             with_change(ra[i]->oks50, rb[i]->oks50, "%.3f") + " | " +
-             with_change(ra[i]->oks75, rb[i]->oks75, "%.3f") + " |\n";
+      out += "| " + ra[i]->name + " |";
+      for (const MetricColumn& c : kMetricColumns) {
+        out += " " + with_change(ra[i]->*c.value, rb[i]->*c.value, c.format) + " |";
+      }
+      out += "\n";
     }
     out += "\n## Keypoint breakdown (baseline)\n\n" + keypoint_table_markdown(b);
     out += "\n## Keypoint breakdown (ours)\n\n" + keypoint_table_markdown(a);
