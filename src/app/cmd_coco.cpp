@@ -16,6 +16,7 @@
 #include "dataset/coco_file.h"
 #include "dataset/coco_tools.h"
 #include "dataset/coco_viz.h"
+#include "dataset/exporters.h"
 #include "eval/keypoint_template.h"
 
 namespace wheelpose::app {
@@ -138,7 +139,7 @@ void run_split(const CocoOptions& o) {
 void run_export(const CocoOptions& o) {
   const json root = dataset::load_json(o.file);
   const auto t = eval::load_keypoint_template(o.keypoint_template);
-  const std::size_t lines = dataset::export_yolo_pose(root, o.file, t, o.out);
+  const std::size_t lines = dataset::dataset_exporter(o.format).write(root, o.file, t, o.out);
   spdlog::info("{}: {} label lines for {} images", o.out, lines, root["images"].size());
 }
 
@@ -192,7 +193,12 @@ void attach_coco(CLI::App& parent) {
 
   auto* exp = coco->add_subcommand("export", "Write labels for another framework");
   exp->add_option("file", o->file, "COCO file")->required();
-  exp->add_option("--format", o->format, "yolo-pose")->check(CLI::IsMember({"yolo-pose"}));
+  std::string formats;
+  for (const dataset::DatasetExporter& e : dataset::dataset_exporters()) {
+    formats += (formats.empty() ? "" : "; ") + std::string(e.name) + ": " + e.description;
+  }
+  exp->add_option("--format", o->format, "Label format (" + formats + ")")
+      ->check(CLI::IsMember(dataset::dataset_exporter_names()));
   exp->add_option("--template", o->keypoint_template,
                   "Keypoint template for flip indices: coco17 or a template JSON");
   exp->add_option("--out", o->out, "Output directory")->required();
