@@ -144,55 +144,6 @@ TEST(Person, OverridesApplyAndRejectGarbage) {
   EXPECT_THROW(apply_overrides(spec, {"age"}), Error);
 }
 
-TEST(Wheelchair, InsideDepthHandComputed) {
-  Primitive box;
-  box.half = {1, 2, 3};
-  EXPECT_FLOAT_EQ(inside_depth(box, {0.5f, 0, 0}), 0.5f);
-  EXPECT_LT(inside_depth(box, {1.5f, 0, 0}), 0);
-  Primitive cyl;
-  cyl.kind = Primitive::kCylinder;
-  cyl.half = {0.1f, 0.3f, 0.3f};
-  EXPECT_FLOAT_EQ(inside_depth(cyl, {0, 0.25f, 0}), 0.05f);
-  EXPECT_LT(inside_depth(cyl, {0, 0.2f, 0.25f}), 0);
-}
-
-TEST(Wheelchair, EmptyChairStandsOnTheFloor) {
-  RandomStream s(4, {"empty"});
-  const Wheelchair c = make_empty_wheelchair(WheelchairType::kManual, s);
-  const TriMesh m = primitive_mesh(c, 2);
-  float lowest = 1e9f;
-  for (const auto& v : m.vertices) lowest = std::min(lowest, v.y());
-  EXPECT_NEAR(lowest, c.ground_y, 3e-3f);  // polygonal tyre ring
-}
-
-TEST(Wheelchair, ThinTubesGetFewerSidesAndStayRound) {
-  EXPECT_EQ(cylinder_segments(0.004f), 6);  // a spoke
-  EXPECT_EQ(cylinder_segments(0.011f), 14);
-  EXPECT_EQ(cylinder_segments(0.05f), 24);
-  for (const float radius : {0.004f, 0.05f}) {
-    const Primitive spoke = make_tube("spoke", {0, 0, 0}, {0, 0.3f, 0}, radius, 3);
-    const TriMesh m = primitive_mesh(std::vector<Primitive>{spoke}, spoke.material);
-    // Per side: a quad (2 triangles) and a triangle in each end cap.
-    EXPECT_EQ(m.triangles.size(), 4u * cylinder_segments(radius)) << radius;
-    for (const auto& v : m.vertices) {
-      const float from_axis = std::hypot(v.x(), v.z());
-      EXPECT_TRUE(from_axis < 1e-6f || std::abs(from_axis - radius) < 1e-6f) << from_axis;
-    }
-  }
-}
-
-TEST(Wheelchair, CcByModelLoadsAtItsSize) {
-  const TriMesh m = load_cc_by_wheelchair();
-  Eigen::Vector3f lo = m.vertices[0], hi = m.vertices[0];
-  for (const auto& v : m.vertices) {
-    lo = lo.cwiseMin(v);
-    hi = hi.cwiseMax(v);
-  }
-  EXPECT_NEAR(hi.x() - lo.x(), 0.64f, 0.01f);
-  EXPECT_NEAR(hi.y() - lo.y(), 0.91f, 0.01f);
-  EXPECT_NEAR(hi.z() - lo.z(), 0.77f, 0.01f);
-}
-
 }  // namespace
 }  // namespace wheelpose::body
 
