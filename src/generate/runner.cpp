@@ -69,17 +69,17 @@ std::vector<std::uint8_t> encode_image(const cv::Mat& rgb, const std::string& fo
 
 // annotations.json in the canonical form of dataset::write_coco, streamed from the fragments so
 // memory does not grow with the frame count.
-std::pair<std::int64_t, std::int64_t> assemble_annotations(const fs::path& out,
-                                                           std::int64_t first, std::int64_t end,
-                                                           const json& info, const json& cat) {
+std::pair<std::int64_t, std::int64_t> assemble_annotations(const fs::path& out, std::int64_t first,
+                                                           std::int64_t end, const json& info,
+                                                           const json& cat) {
   AtomicFileWriter file(out / "annotations.json");
   auto fragment = [&](std::int64_t frame) {
     const fs::path path = out / "labels" / (frame_stem(frame) + ".json");
     try {
       return json::parse(read_file(path));
     } catch (const json::parse_error& e) {
-      throw Error(path.string() + ": malformed label fragment (delete it and re-run with --resume): " +
-                  e.what());
+      throw Error(path.string() +
+                  ": malformed label fragment (delete it and re-run with --resume): " + e.what());
     }
   };
   dataset::CanonicalCocoWriter coco([&file](const std::string& text) { file.write(text); });
@@ -117,6 +117,15 @@ std::string frame_stem(std::int64_t frame) {
   return buffer;
 }
 
+void RunOptions::check() const {
+  if (frames < 1) throw Error("--frames must be at least 1");
+  if (shard_count < 1 || shard_index < 0 || shard_index >= shard_count)
+    throw Error("--shard: expected i/N with 0 <= i < N");
+  if (format != "jpg" && format != "png") throw Error("--format: expected jpg or png");
+  if (out.empty()) throw Error("--out is required");
+  if (threads < 0) throw Error("--threads must be 0 (every core) or more");
+}
+
 std::pair<std::int64_t, std::int64_t> shard_range(std::int64_t frames, int index, int count) {
   return {frames * index / count, frames * (index + 1) / count};
 }
@@ -124,15 +133,12 @@ std::pair<std::int64_t, std::int64_t> shard_range(std::int64_t frames, int index
 RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
                         const ProgressFn& progress) {
   const auto start = std::chrono::steady_clock::now();
-  if (options.frames < 1) throw Error("--frames must be at least 1");
-  if (options.shard_count < 1 || options.shard_index < 0 || options.shard_index >= options.shard_count)
-    throw Error("--shard: expected i/N with 0 <= i < N");
-  if (options.format != "jpg" && options.format != "png") throw Error("--format: expected jpg or png");
-  if (options.out.empty()) throw Error("--out is required");
+  options.check();
 
   std::optional<tbb::global_control> threads;
   if (options.threads > 0)
-    threads.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(options.threads));
+    threads.emplace(tbb::global_control::max_allowed_parallelism,
+                    static_cast<std::size_t>(options.threads));
 
   const std::vector<motion::SeatedClip> clips = load_motion_clips(options.motions);
   const std::filesystem::path assets = body::locate_assets(options.assets);
@@ -207,8 +213,10 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
                         render::encode_png(render::depth_to_millimetres(buffers.depth)));
       write_file_atomic(out / "maps" / (stem + "_normals.png"),
                         render::encode_png(render::normals_to_u16(buffers.normals)));
-      write_file_atomic(out / "maps" / (stem + "_instance.png"), render::encode_png(buffers.instance));
-      write_file_atomic(out / "maps" / (stem + "_semantic.png"), render::encode_png(buffers.semantic));
+      write_file_atomic(out / "maps" / (stem + "_instance.png"),
+                        render::encode_png(buffers.instance));
+      write_file_atomic(out / "maps" / (stem + "_semantic.png"),
+                        render::encode_png(buffers.semantic));
     }
     ordered_json image;
     image["file_name"] = file_name;
@@ -238,8 +246,7 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
                {"scenario", "scenario.json"}};
   std::tie(summary.images, summary.annotations) = assemble_annotations(
       out, summary.first_frame, summary.end_frame, info, category(scenario.keypoint_template));
-  summary.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }
 

@@ -31,6 +31,9 @@ struct RunOptions {
   bool resume = false;
   MotionSource motions;
   std::optional<std::filesystem::path> assets;
+
+  // Throws Error naming the first option that is out of range (run_generate calls it).
+  void check() const;
 };
 
 struct RunSummary {

@@ -28,6 +28,9 @@ struct MotionOptions {
 
   // Reads the keys of a `motion:` map; unknown keys and bad values name file:line:key.
   static MotionOptions from_config(const ConfigNode& node);
+  // Throws Error (bad input) naming the first option outside its range (the ranges from_config
+  // enforces); run_motion_pipeline calls it.
+  void check() const;
   nlohmann::ordered_json to_json() const;
 };
 

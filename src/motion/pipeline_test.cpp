@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <string>
 
 #include "core/error.h"
 #include "motion/clip_json.h"
@@ -162,6 +164,36 @@ TEST(MotionPipeline, EverySeatedLibraryClipIsPlausible) {
       EXPECT_TRUE(problems.empty()) << clip.name << " seed " << seed << ": " << problems.front();
     }
   }
+}
+
+}  // namespace
+}  // namespace wheelpose::motion
+
+namespace wheelpose::motion {
+namespace {
+
+TEST(MotionOptions, CheckHoldsTheRangesTheConfigReaderEnforces) {
+  EXPECT_NO_THROW(MotionOptions{}.check());
+  auto rejects = [](auto change, const char* name) {
+    MotionOptions o;
+    change(o);
+    try {
+      o.check();
+      ADD_FAILURE() << name << " accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), ErrorKind::kBadInput);
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+  };
+  rejects([](MotionOptions& o) { o.filter_order = 9; }, "filter.order");
+  rejects([](MotionOptions& o) { o.filter_cutoff_hz = std::nan(""); }, "filter.cutoff_hz");
+  rejects([](MotionOptions& o) { o.seating.noise_amplitude_deg = -1; }, "seat.noise_amplitude_deg");
+  rejects([](MotionOptions& o) { o.seating.keyframe_gap_mean = 0; }, "seat.keyframe_gap_mean");
+  rejects([](MotionOptions& o) { o.limits.max_bone_length = 0; }, "limits.max_bone_length");
+  // The pipeline refuses such options before touching the clip.
+  MotionOptions bad;
+  bad.filter_order = 0;
+  EXPECT_THROW(run_motion_pipeline(PositionClip{}, bad), Error);
 }
 
 }  // namespace
