@@ -11,6 +11,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "review/analysis.h"
+#include "review/report.h"
 #include "review/server.h"
 #include "review/store.h"
 

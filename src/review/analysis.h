@@ -1,8 +1,8 @@
 #pragma once
-// Reading a review study back out: progress, raw export, per-clip scores, the ranking the
-// generator filters on, and the HTML/PNG report (paper Figure "HumanEvalStat" a–h).
+// Reading a review study back out: progress, raw export, per-clip scores, per-group answer
+// tallies and the ranking the generator filters on. report.h draws and writes them.
 
-#include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -45,8 +45,19 @@ std::optional<double> pearson(const std::vector<double>& x, const std::vector<do
 nlohmann::ordered_json filter_ranking(const ReviewStore& store, double drop_percent,
                                       const std::vector<std::string>& groups);
 
-// Writes report.html and the PNG figures into `out_dir`; returns the files written.
-std::vector<std::filesystem::path> write_report(const ReviewStore& store,
-                                                const std::filesystem::path& out_dir);
+// One clip group's answers (paper Figure "HumanEvalStat"): per participant (store order) the
+// count of each answer, and the (ease, frequency) pairs of answers with both.
+struct GroupAnswers {
+  std::string group;
+  std::vector<std::vector<int>> ease, frequency;      // [participant][answer - 1], answers 1..7
+  std::vector<std::vector<int>> seen;                 // [participant][0 = yes, 1 = no]
+  std::map<std::pair<int, int>, int> pairs;           // (ease, frequency) -> answers
+  std::vector<double> ease_values, frequency_values;  // the pairs, one entry per answer
+};
+// Every clip group, in the order their first clips were registered.
+std::vector<GroupAnswers> group_answers(const ReviewStore& store);
+
+// `v` with `digits` decimals ("0.775").
+std::string format_number(double v, int digits = 3);
 
 }  // namespace wheelpose::review

@@ -7,6 +7,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "review/report.h"
 
 namespace wheelpose::review {
 namespace {
