@@ -5,15 +5,17 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/keypoint_template.h"
 #include "core/random.h"
 #include "eval/coco_data.h"
 #include "eval/coco_eval.h"
 #include "eval/keypoint_metrics.h"
-#include "eval/keypoint_template.h"
 
 namespace {
 
 using namespace wheelpose::eval;
+using wheelpose::KeypointTemplate;
+using wheelpose::load_keypoint_template;
 
 constexpr int kImages = 5000, kPeople = 4, kDetections = 10;
 

@@ -13,11 +13,11 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/keypoint_template.h"
 #include "dataset/coco_file.h"
 #include "dataset/coco_tools.h"
 #include "dataset/coco_viz.h"
 #include "dataset/exporters.h"
-#include "eval/keypoint_template.h"
 
 namespace wheelpose::app {
 namespace {
@@ -138,7 +138,7 @@ void run_split(const CocoOptions& o) {
 
 void run_export(const CocoOptions& o) {
   const json root = dataset::load_json(o.file);
-  const auto t = eval::load_keypoint_template(o.keypoint_template);
+  const auto t = load_keypoint_template(o.keypoint_template);
   const std::size_t lines = dataset::dataset_exporter(o.format).write(root, o.file, t, o.out);
   spdlog::info("{}: {} label lines for {} images", o.out, lines, root["images"].size());
 }

@@ -11,12 +11,12 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/keypoint_template.h"
 #include "eval/coco_data.h"
 #include "eval/coco_eval.h"
 #include "eval/eval_report.h"
 #include "eval/eval_viz.h"
 #include "eval/keypoint_metrics.h"
-#include "eval/keypoint_template.h"
 
 namespace wheelpose::app {
 namespace {
@@ -34,7 +34,7 @@ struct EvalOptions {
 };
 
 eval::ResultReport evaluate_file(const std::string& path, const eval::CocoGroundTruth& gt,
-                                 const eval::KeypointTemplate& t, bool keypoints, bool bbox,
+                                 const KeypointTemplate& t, bool keypoints, bool bbox,
                                  std::unique_ptr<eval::CocoResults>& results) {
   results = std::make_unique<eval::CocoResults>(eval::load_coco_results(path, gt, t.size()));
   // pycocotools silently drops detections of categories absent from the GT; say so.
@@ -75,7 +75,7 @@ void run_eval(const EvalOptions& o) {
   }
   const bool keypoints = o.type != "bbox";
   const bool bbox = o.type != "keypoints";
-  const eval::KeypointTemplate t = eval::load_keypoint_template(o.keypoint_template);
+  const KeypointTemplate t = load_keypoint_template(o.keypoint_template);
   const eval::CocoGroundTruth gt = eval::load_coco_gt(o.gt, t.size(), keypoints);
   std::size_t orphans = 0;
   for (const auto& a : gt.annotations) orphans += gt.image_position(a.image_id) < 0;

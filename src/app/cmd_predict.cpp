@@ -20,9 +20,9 @@
 #include "core/allocator.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/keypoint_template.h"
 #include "eval/coco_data.h"
 #include "eval/eval_viz.h"
-#include "eval/keypoint_template.h"
 #include "learn/model_files.h"
 #include "learn/pose_predictor.h"
 #include "progress.h"
@@ -161,7 +161,7 @@ void run_predict(const PredictCommandOptions& o) {
   spdlog::info("predict: {} people in {} images -> {}", results.size(), jobs.size(), o.out);
 
   if (!o.viz.empty()) {
-    const eval::KeypointTemplate t = eval::load_keypoint_template("coco17");
+    const KeypointTemplate t = load_keypoint_template("coco17");
     const eval::CocoResults ours = eval::load_coco_results(o.out, *gt, t.size());
     const auto written = eval::write_overlays(*gt, ours, nullptr, t,
                                               {.count = o.viz_count,

@@ -252,7 +252,7 @@ std::vector<SplitPart> split_coco(const json& root, const std::vector<double>& r
 }
 
 std::size_t export_yolo_pose(const json& root, const std::string& source,
-                             const eval::KeypointTemplate& keypoint_template,
+                             const KeypointTemplate& keypoint_template,
                              const std::filesystem::path& out_dir) {
   require_usable(root, source);
   // Classes are the categories in id order; all keypoint categories must share one length.

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "core/keypoint_template.h"
 #include "dataset/coco_file.h"
-#include "eval/keypoint_template.h"
 
 namespace wheelpose::dataset {
 
@@ -51,7 +51,7 @@ std::vector<SplitPart> split_coco(const json& root, const std::vector<double>& r
 // out/data.yaml (kpt_shape, flip_idx from the template's flip pairs, names). Crowd regions and
 // empty boxes are skipped. Returns the number of label lines.
 std::size_t export_yolo_pose(const json& root, const std::string& source,
-                             const eval::KeypointTemplate& keypoint_template,
+                             const KeypointTemplate& keypoint_template,
                              const std::filesystem::path& out_dir);
 
 }  // namespace wheelpose::dataset

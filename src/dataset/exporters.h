@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "core/keypoint_template.h"
 #include "dataset/coco_file.h"
-#include "eval/keypoint_template.h"
 
 namespace wheelpose::dataset {
 
@@ -17,7 +17,7 @@ struct DatasetExporter {
   const char* description;  // for --help
   // Writes the labels of `root` (read from `source`) under `out_dir`; returns the label lines.
   std::size_t (*write)(const json& root, const std::string& source,
-                       const eval::KeypointTemplate& keypoint_template,
+                       const KeypointTemplate& keypoint_template,
                        const std::filesystem::path& out_dir);
 };
 

@@ -7,7 +7,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "eval/parse_error.h"
+#include "core/parse_error.h"
 
 namespace wheelpose::eval {
 namespace {

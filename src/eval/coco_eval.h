@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/keypoint_template.h"
 #include "eval/coco_data.h"
-#include "eval/keypoint_template.h"
 
 namespace wheelpose::eval {
 

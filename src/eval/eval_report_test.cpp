@@ -4,8 +4,8 @@
 
 #include <cmath>
 
+#include "core/keypoint_template.h"
 #include "eval/eval_viz.h"
-#include "eval/keypoint_template.h"
 #include "eval/test_fixtures.h"
 
 namespace wheelpose::eval {

@@ -6,8 +6,8 @@
 #include <span>
 #include <vector>
 
+#include "core/keypoint_template.h"
 #include "eval/coco_data.h"
-#include "eval/keypoint_template.h"
 
 namespace wheelpose::eval {
 

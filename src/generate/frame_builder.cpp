@@ -395,9 +395,9 @@ scene::PrimitiveSpec object_spec(const std::string& shape) {
 
 }  // namespace
 
-std::vector<KeypointAnchor> resolve_anchors(const eval::KeypointTemplate& keypoint_template) {
+std::vector<KeypointAnchor> resolve_anchors(const KeypointTemplate& keypoint_template) {
   std::vector<KeypointAnchor> anchors;
-  for (const eval::KeypointInfo& k : keypoint_template.keypoints) {
+  for (const KeypointInfo& k : keypoint_template.keypoints) {
     const std::string& a = k.anchor;
     const auto colon = a.find(':');
     const std::string kind = a.substr(0, colon),

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "body/person.h"
-#include "eval/keypoint_template.h"
+#include "core/keypoint_template.h"
 #include "generate/frame_draft.h"
 #include "generate/furniture.h"
 #include "motion/clip.h"
@@ -52,10 +52,10 @@ struct BuiltFrame {
 // template and keypoint for an anchor we cannot resolve.
 struct KeypointAnchor {
   enum Kind { kCoco, kRaisedHip } kind = kCoco;
-  int index = 0;  // COCO-17 index, or 0 = left / 1 = right raised hip
+  int index = 0;          // COCO-17 index, or 0 = left / 1 = right raised hip
   float tolerance_m = 0;  // occlusion tolerance at scale 1
 };
-std::vector<KeypointAnchor> resolve_anchors(const eval::KeypointTemplate& keypoint_template);
+std::vector<KeypointAnchor> resolve_anchors(const KeypointTemplate& keypoint_template);
 
 BuiltFrame build_frame(const FrameDraft& draft, const body::BodyData& body_data,
                        const std::vector<motion::SeatedClip>& clips,

@@ -4,15 +4,16 @@
 
 #include <cmath>
 
+#include "core/keypoint_template.h"
 #include "core/random.h"
-#include "eval/keypoint_template.h"
 #include "generate/frame_builder.h"
 #include "render/renderer.h"
 
 namespace wheelpose::generate {
 namespace {
 
-scene::Material plain(const Eigen::Vector3f& colour, scene::TextureKind kind = scene::TextureKind::kNone) {
+scene::Material plain(const Eigen::Vector3f& colour,
+                      scene::TextureKind kind = scene::TextureKind::kNone) {
   scene::Material m;
   m.diffuse = Eigen::Vector3f::Ones();
   m.texture.kind = kind == scene::TextureKind::kNone ? scene::TextureKind::kNone : kind;
@@ -57,7 +58,7 @@ cv::Mat render_portrait(const body::BodyData& data, const body::PersonSpec& spec
   sky.color = Eigen::Vector3f(0.3f, 0.32f, 0.35f);
   draft.sky = sky;
   static const std::vector<KeypointAnchor> anchors =
-      resolve_anchors(eval::load_keypoint_template("coco17"));
+      resolve_anchors(load_keypoint_template("coco17"));
   const BuiltFrame built = build_frame(draft, data, {}, anchors);
   render::Renderer renderer(built.scene);
   render::RenderOptions options;
@@ -65,6 +66,5 @@ cv::Mat render_portrait(const body::BodyData& data, const body::PersonSpec& spec
   options.post = false;
   return renderer.render(options).rgb;
 }
-
 
 }  // namespace wheelpose::generate

@@ -46,7 +46,7 @@ ordered_json provenance(const Scenario& scenario, const RunOptions& options,
   return j;
 }
 
-json category(const eval::KeypointTemplate& t) {
+json category(const KeypointTemplate& t) {
   json names = json::array(), skeleton = json::array();
   for (const auto& k : t.keypoints) names.push_back(k.name);
   for (const auto& [a, b] : t.skeleton) skeleton.push_back({a + 1, b + 1});

@@ -10,7 +10,7 @@ namespace wheelpose::generate {
 namespace {
 
 void resolve_template(Scenario& s) {
-  s.keypoint_template = eval::load_keypoint_template(s.keypoint_template_name);
+  s.keypoint_template = load_keypoint_template(s.keypoint_template_name);
   s.anchors = resolve_anchors(s.keypoint_template);
 }
 

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "core/config.h"
-#include "eval/keypoint_template.h"
+#include "core/keypoint_template.h"
 #include "generate/frame_builder.h"
 #include "generate/randomizer.h"
 #include "render/renderer.h"
@@ -39,7 +39,7 @@ struct Scenario {
     std::shared_ptr<const Randomizer> randomizer;
   };
   std::vector<Active> randomizers;  // enabled, in registry order
-  eval::KeypointTemplate keypoint_template;
+  KeypointTemplate keypoint_template;
   std::vector<KeypointAnchor> anchors;
 
   // The renderer's options for this scenario's image settings (checked when read).

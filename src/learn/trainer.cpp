@@ -16,7 +16,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "eval/keypoint_template.h"
+#include "core/keypoint_template.h"
 #include "learn/data_parallel.h"
 #include "learn/graph_module.h"
 #include "learn/train_step.h"
@@ -234,7 +234,7 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
     data.cumulative.push_back((data.cumulative.empty() ? 0 : data.cumulative.back()) +
                               image.weight);
   }
-  data.flip_pairs = eval::load_keypoint_template("coco17").flip_pairs;
+  data.flip_pairs = load_keypoint_template("coco17").flip_pairs;
   spdlog::info("train: {} images, {} people with keypoints", data.set.images.size(),
                data.set.labelled_people);
 

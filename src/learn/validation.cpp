@@ -4,8 +4,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
+#include "core/keypoint_template.h"
 #include "eval/coco_eval.h"
-#include "eval/keypoint_template.h"
 #include "learn/pose_predictor.h"
 #include "learn/train_data.h"
 
@@ -63,7 +63,7 @@ ValidationScores Validator::score(const fs::path& model_json,
   scores.detections = static_cast<int>(results.size());
   if (results.empty()) return scores;
   const eval::CocoResults dt = eval::parse_coco_results(results, "validation", gt_, 17);
-  const eval::KeypointTemplate coco17 = eval::load_keypoint_template("coco17");
+  const KeypointTemplate coco17 = load_keypoint_template("coco17");
   const eval::EvalSummary keypoints =
       eval::run_coco_eval(gt_, dt, eval::IouType::kKeypoints, coco17);
   const eval::EvalSummary boxes = eval::run_coco_eval(gt_, dt, eval::IouType::kBbox, coco17);

@@ -1,16 +1,18 @@
 #pragma once
-// A keypoint template names the keypoints of a pose format and gives each its COCO OKS sigma,
-// the drawing skeleton, left/right flip pairs and named groups used by the per-keypoint report.
-// File format (JSON): {"name", "keypoints": [{"name", "sigma", ...}], "skeleton": [[a, b], ...]
-// (1-based, as in COCO categories), "flip_pairs": [[name, name]], "groups": [{"name",
-// "keypoints": [names]}]}. Unknown per-keypoint fields are allowed so other tools can extend it.
+// The dataset's keypoint vocabulary, shared by every layer that writes or reads labels
+// (generate, dataset, eval, learn). A keypoint template names the keypoints of a pose format and
+// gives each its COCO OKS sigma, the drawing skeleton, left/right flip pairs and named groups used
+// by the per-keypoint report. File format (JSON): {"name", "keypoints": [{"name", "sigma", ...}],
+// "skeleton": [[a, b], ...] (1-based, as in COCO categories), "flip_pairs": [[name, name]],
+// "groups": [{"name", "keypoints": [names]}]}. Unknown per-keypoint fields are allowed so other
+// tools can extend it.
 
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
 
-namespace wheelpose::eval {
+namespace wheelpose {
 
 struct KeypointInfo {
   std::string name;
@@ -48,4 +50,4 @@ KeypointTemplate load_keypoint_template(const std::string& name_or_path);
 std::string_view builtin_coco17_json();
 std::string_view builtin_coco17_raised_hips_json();
 
-}  // namespace wheelpose::eval
+}  // namespace wheelpose

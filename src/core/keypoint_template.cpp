@@ -1,4 +1,4 @@
-#include "eval/keypoint_template.h"
+#include "core/keypoint_template.h"
 
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -6,9 +6,9 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "eval/parse_error.h"
+#include "core/parse_error.h"
 
-namespace wheelpose::eval {
+namespace wheelpose {
 namespace {
 
 using nlohmann::json;
@@ -134,4 +134,4 @@ KeypointTemplate load_keypoint_template(const std::string& name_or_path) {
   return parse_keypoint_template(read_file(name_or_path), name_or_path);
 }
 
-}  // namespace wheelpose::eval
+}  // namespace wheelpose
