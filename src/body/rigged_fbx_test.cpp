@@ -30,6 +30,8 @@ using fbx::testing::name_of;
 using fbx::testing::property;
 using fbx::testing::value;
 using testing::body_data;
+using testing::max_distance;
+using testing::mean_distance;
 namespace fs = std::filesystem;
 
 const motion::SkeletalMotion& test_clip() {
@@ -83,20 +85,6 @@ std::vector<Eigen::Vector3f> skinned(const FbxScene& scene, const Node& geometry
   std::vector<Eigen::Vector3f> result;
   for (const auto& p : out) result.push_back(p.cast<float>());
   return result;
-}
-
-float max_distance(const std::vector<Eigen::Vector3f>& a, const std::vector<Eigen::Vector3f>& b) {
-  EXPECT_EQ(a.size(), b.size());
-  float worst = 0;
-  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i)
-    worst = std::max(worst, (a[i] - b[i]).norm());
-  return worst;
-}
-
-float mean_distance(const std::vector<Eigen::Vector3f>& a, const std::vector<Eigen::Vector3f>& b) {
-  double sum = 0;
-  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) sum += (a[i] - b[i]).norm();
-  return static_cast<float>(sum / static_cast<double>(std::max<std::size_t>(a.size(), 1)));
 }
 
 TEST(RiggedFbx, PlaysBackAsBuildPersonPosesThePerson) {

@@ -20,6 +20,8 @@ namespace wheelpose::body {
 namespace {
 
 using testing::body_data;
+using testing::max_distance;
+using testing::mean_distance;
 namespace fs = std::filesystem;
 
 fs::path temp_path(const std::string& name) {
@@ -100,20 +102,6 @@ class SkinnedScene {
   Assimp::Importer importer_;
   const aiScene* scene_ = nullptr;
 };
-
-float mean_distance(const std::vector<Eigen::Vector3f>& a, const std::vector<Eigen::Vector3f>& b) {
-  double sum = 0;
-  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) sum += (a[i] - b[i]).norm();
-  return static_cast<float>(sum / static_cast<double>(std::max<std::size_t>(a.size(), 1)));
-}
-
-float max_distance(const std::vector<Eigen::Vector3f>& a, const std::vector<Eigen::Vector3f>& b) {
-  EXPECT_EQ(a.size(), b.size());
-  float worst = 0;
-  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i)
-    worst = std::max(worst, (a[i] - b[i]).norm());
-  return worst;
-}
 
 TEST(RiggedGlb, SkinnedBodyMatchesBuildPersonAtEveryTestedFrame) {
   const motion::SkeletalMotion& clip = test_clip();
