@@ -106,6 +106,22 @@ TEST(TrainCli, KilledRunsResumeExactly) {
             log_without_speed(dir / "killed" / "train_log.csv"));
 }
 
+// A run killed after its final checkpoint but before (or while) writing last.pt resumes to the
+// same last.pt: the resume writes the checkpoint's weights out again.
+TEST(TrainCli, ResumeAfterTheFinalCheckpointWritesLastWeights) {
+  if (!have_models()) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
+  const auto dir = fresh_temp_dir("train_final");
+  const fs::path gt = wheelpose::testing::write_coco_sample_gt(dir, true);
+  auto r = run_wheelpose(small_run(gt, dir / "whole"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  fs::copy(dir / "whole", dir / "late");
+  fs::remove(dir / "late" / "last.pt");
+  r = run_wheelpose(small_run(gt, dir / "late") + " --resume");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(same_bytes(dir / "whole" / "last.pt", dir / "late" / "last.pt"));
+  EXPECT_EQ(read_text(dir / "whole" / "train_log.csv"), read_text(dir / "late" / "train_log.csv"));
+}
+
 // keypoint AP from `wheelpose eval`'s metrics.json.
 double keypoint_ap(const fs::path& metrics) {
   return json::parse(read_text(metrics))["results"]["keypoints"]["stats"]["AP"].get<double>();

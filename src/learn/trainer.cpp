@@ -157,8 +157,10 @@ void save_checkpoint(GraphModule& model, torch::optim::AdamW& optimizer, int ste
   archive.write("resume_key", c10::IValue(key));
   std::ostringstream bytes;
   archive.save_to(bytes);
-  write_file_atomic(out_dir / "checkpoint.pt", bytes.str());
+  // last.pt first: killed between the two, the resume starts from the older checkpoint and
+  // writes last.pt again; the other order would leave a stale last.pt behind a final checkpoint.
   model.save(out_dir / "last.pt");
+  write_file_atomic(out_dir / "checkpoint.pt", bytes.str());
 }
 
 int load_checkpoint(GraphModule& model, torch::optim::AdamW& optimizer, const std::string& key,
@@ -272,6 +274,8 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
   if (o.resume) {
     result.start_step = load_checkpoint(model, optimizer, key, o.out_dir);
     spdlog::info("train: resuming at step {} of {}", result.start_step, o.steps);
+    // last.pt always holds the weights a resumed run starts from, even if it was lost.
+    if (writer) model.save(o.out_dir / "last.pt");
   } else {
     if (fs::exists(o.out_dir / "checkpoint.pt")) {
       throw Error((o.out_dir / "checkpoint.pt").string() +
