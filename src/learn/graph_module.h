@@ -27,6 +27,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "learn/op_kernels.h"
 #include "learn/tfjs_model.h"
 
 namespace wheelpose::learn {
@@ -74,9 +75,6 @@ class GraphModule : public torch::nn::Module {
   void save(const std::filesystem::path& path) const;
   void load(const std::filesystem::path& path);
 
-  // Kernels see this; public so the op implementations (graph_module.cpp) can use it.
-  using Kernel = std::function<std::vector<torch::Tensor>(std::vector<torch::Tensor>&)>;
-
  private:
   struct Plan {
     std::vector<int> steps;                 // node indices to run, in order
@@ -85,6 +83,11 @@ class GraphModule : public torch::nn::Module {
     std::vector<TensorRef> refs;            // ... and the tensors they name
   };
   void compile();
+  // Constants as tensors, float filters and biases as parameters; per node, whether it is a
+  // filter stored in torch's layout.
+  std::vector<bool> make_constants();
+  // Every input and signature output names an output its node makes.
+  void check_references() const;
   const Plan& plan_for(const std::vector<std::string>& capture, bool with_outputs);
   TensorMap run(const torch::Tensor& input, const Plan& plan, bool any_batch);
 
