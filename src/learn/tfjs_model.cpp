@@ -514,112 +514,94 @@ float half_to_float(std::uint16_t bits) {
   return std::bit_cast<float>(out);
 }
 
-TfjsModel load_tfjs_model(const fs::path& json_path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(json_path, ec)) fail(json_path, "no such model file");
-  const Reader r(json_path);
-  json doc;
-  try {
-    doc = json::parse(read_file(json_path));
-  } catch (const json::parse_error& e) {
-    fail(json_path, std::string("corrupt or truncated JSON (") + e.what() + ")");
-  }
-  if (!doc.is_object()) fail(json_path, "expected a JSON object (a TF.js model.json)");
+namespace {
 
-  TfjsModel model;
-  model.topology_path = json_path;
-  if (const json* f = r.find(doc, "format")) model.format = r.string(*f, "format");
-  if (!model.format.empty() && model.format != "graph-model") {
-    r.fail_at("format", "'" + model.format + "' is not a TF.js graph model");
+// Node n of modelTopology.node as written (inputs still by name), its name added to `index`;
+// its Const value from the weights (taken out of `weights`) or inline.
+RawNode read_node(const Reader& r, const json& j, std::size_t n,
+                  std::unordered_map<std::string, int>& index,
+                  std::unordered_map<std::string, HostTensor>& weights) {
+  const std::string nkey = "modelTopology.node[" + std::to_string(n) + "]";
+  const fs::path& json_path = r.file();
+  RawNode raw;
+  GraphNode& node = raw.node;
+  node.name = r.string(r.need(j, "name", nkey), nkey + ".name");
+  const std::string where = "node '" + node.name + "'";
+  node.op = r.string(r.need(j, "op", nkey), nkey + ".op");
+  if (!is_supported_op(node.op)) {
+    fail(json_path, where + ": unsupported op '" + node.op + "'");
   }
-  if (const json* g = r.find(doc, "generatedBy")) {
-    model.generated_by = g->is_string() ? g->get<std::string>() : g->dump();
+  if (!index.emplace(node.name, static_cast<int>(n)).second) {
+    fail(json_path, where + ": the name appears twice");
   }
-  const json& topology = r.need(doc, "modelTopology", "modelTopology");
-  const json& node_list = r.array(r.need(topology, "node", "modelTopology"), "modelTopology.node");
-  std::unordered_map<std::string, HostTensor> weights =
-      read_weights(r, r.need(doc, "weightsManifest", "weightsManifest"));
-
-  // Parse the nodes in file order.
-  std::vector<RawNode> raw(node_list.size());
-  std::unordered_map<std::string, int> file_index;
-  for (std::size_t n = 0; n < node_list.size(); ++n) {
-    const std::string nkey = "modelTopology.node[" + std::to_string(n) + "]";
-    const json& j = node_list[n];
-    GraphNode& node = raw[n].node;
-    node.name = r.string(r.need(j, "name", nkey), nkey + ".name");
-    const std::string where = "node '" + node.name + "'";
-    node.op = r.string(r.need(j, "op", nkey), nkey + ".op");
-    if (!is_supported_op(node.op)) {
-      fail(json_path, where + ": unsupported op '" + node.op + "'");
+  if (const json* inputs = r.find(j, "input")) {
+    r.array(*inputs, nkey + ".input");
+    for (std::size_t k = 0; k < inputs->size(); ++k) {
+      raw.input_names.push_back(r.string((*inputs)[k], nkey + ".input[" + std::to_string(k) + "]"));
     }
-    if (!file_index.emplace(node.name, static_cast<int>(n)).second) {
-      fail(json_path, where + ": the name appears twice");
-    }
-    if (const json* inputs = r.find(j, "input")) {
-      r.array(*inputs, nkey + ".input");
-      for (std::size_t k = 0; k < inputs->size(); ++k) {
-        raw[n].input_names.push_back(
-            r.string((*inputs)[k], nkey + ".input[" + std::to_string(k) + "]"));
-      }
-    }
-    if (const json* attrs = r.find(j, "attr")) {
-      if (!attrs->is_object()) r.fail_at(nkey + ".attr", "expected an object");
-      for (const auto& [key, value] : attrs->items()) {
-        try {
-          node.attrs.emplace(key, parse_attr(r, value, key));
-        } catch (const Error& e) {
-          // Re-say it with the node's name: "<file>: node 'x': key 'attr.T.type': ...".
-          const std::string prefix = json_path.string() + ": key '";
-          std::string message = e.what();
-          if (message.rfind(prefix, 0) == 0)
-            message = message.substr(json_path.string().size() + 2);
-          fail(json_path, where + ": attr " + message);
-        }
-      }
-    }
-    if (node.op == "Const") {
-      auto w = weights.find(node.name);
-      if (w != weights.end()) {
-        node.value = std::move(w->second);
-        weights.erase(w);
-      } else {
-        const json* value = r.find(j, "attr");
-        value = value ? r.find(*value, "value") : nullptr;
-        const json* tensor = value ? r.find(*value, "tensor") : nullptr;
-        if (tensor != nullptr) {
-          try {
-            node.value = read_inline_tensor(r, *tensor, "attr.value.tensor");
-          } catch (const Error& e) {
-            std::string message = e.what();
-            message = message.substr(std::min(message.size(), json_path.string().size() + 2));
-            fail(json_path, where + ": " + message);
-          }
-        }
-        if (!node.value) {
-          fail(json_path, where + ": Const has no value (neither in weightsManifest nor inline)");
-        }
+  }
+  if (const json* attrs = r.find(j, "attr")) {
+    if (!attrs->is_object()) r.fail_at(nkey + ".attr", "expected an object");
+    for (const auto& [key, value] : attrs->items()) {
+      try {
+        node.attrs.emplace(key, parse_attr(r, value, key));
+      } catch (const Error& e) {
+        // Re-say it with the node's name: "<file>: node 'x': key 'attr.T.type': ...".
+        const std::string prefix = json_path.string() + ": key '";
+        std::string message = e.what();
+        if (message.rfind(prefix, 0) == 0) message = message.substr(json_path.string().size() + 2);
+        fail(json_path, where + ": attr " + message);
       }
     }
   }
+  if (node.op != "Const") return raw;
+  auto w = weights.find(node.name);
+  if (w != weights.end()) {
+    node.value = std::move(w->second);
+    weights.erase(w);
+    return raw;
+  }
+  const json* value = r.find(j, "attr");
+  value = value ? r.find(*value, "value") : nullptr;
+  const json* tensor = value ? r.find(*value, "tensor") : nullptr;
+  if (tensor != nullptr) {
+    try {
+      node.value = read_inline_tensor(r, *tensor, "attr.value.tensor");
+    } catch (const Error& e) {
+      std::string message = e.what();
+      message = message.substr(std::min(message.size(), json_path.string().size() + 2));
+      fail(json_path, where + ": " + message);
+    }
+  }
+  if (!node.value) {
+    fail(json_path, where + ": Const has no value (neither in weightsManifest nor inline)");
+  }
+  return raw;
+}
 
-  // Resolve inputs and sort topologically (depth-first, keeping file order where free).
+// Input names to (file-order) node references.
+void resolve_inputs(std::vector<RawNode>& raw, const std::unordered_map<std::string, int>& index,
+                    const fs::path& json_path) {
   for (RawNode& rn : raw) {
     for (const std::string& in : rn.input_names) {
       if (!in.empty() && in[0] == '^') {
-        auto it = file_index.find(in.substr(1));
-        if (it == file_index.end()) {
+        auto it = index.find(in.substr(1));
+        if (it == index.end()) {
           fail(json_path, "node '" + rn.node.name + "': control input '" + in + "' names no node");
         }
         rn.node.control_inputs.push_back(it->second);
         continue;
       }
       bool known = false;
-      const TensorRef ref = parse_ref(in, file_index, &known);
+      const TensorRef ref = parse_ref(in, index, &known);
       if (!known) fail(json_path, "node '" + rn.node.name + "': input '" + in + "' names no node");
       rn.node.inputs.push_back(ref);
     }
   }
+}
+
+// Nodes in dependency order (depth-first, keeping file order where free); a cycle fails.
+std::vector<int> topological_order(const std::vector<RawNode>& raw, const fs::path& json_path) {
   std::vector<int> order;
   order.reserve(raw.size());
   std::vector<int> state(raw.size(), 0);  // 0 new, 1 on the stack, 2 done
@@ -651,6 +633,11 @@ TfjsModel load_tfjs_model(const fs::path& json_path) {
       }
     }
   }
+  return order;
+}
+
+// The raw nodes in `order`, their references renumbered, into model.nodes and model.index.
+void place_nodes(std::vector<RawNode>& raw, const std::vector<int>& order, TfjsModel& model) {
   std::vector<int> position(raw.size());
   for (std::size_t k = 0; k < order.size(); ++k) position[order[k]] = static_cast<int>(k);
   model.nodes.reserve(raw.size());
@@ -661,71 +648,122 @@ TfjsModel load_tfjs_model(const fs::path& json_path) {
     model.index.emplace(node.name, static_cast<int>(model.nodes.size()));
     model.nodes.push_back(std::move(node));
   }
+}
 
-  // Signature: inputs are the Placeholders, outputs as declared (else the unconsumed nodes).
+// signature.inputs or signature.outputs, if the file has them.
+std::vector<SignatureTensor> read_signature(const Reader& r, const json& doc, const char* section,
+                                            const TfjsModel& model) {
+  std::vector<SignatureTensor> out;
   const json* signature = r.find(doc, "signature");
-  auto read_signature = [&](const char* section, std::vector<SignatureTensor>& out) {
-    const json* entries = signature ? r.find(*signature, section) : nullptr;
-    if (entries == nullptr) return;
-    const std::string skey = std::string("signature.") + section;
-    if (!entries->is_object()) r.fail_at(skey, "expected an object");
-    for (const auto& [key, value] : entries->items()) {
-      const std::string ekey = skey + "." + key;
-      SignatureTensor t;
-      t.key = key;
-      t.name = r.string(r.need(value, "name", ekey), ekey + ".name");
-      bool known = false;
-      t.ref = parse_ref(t.name, model.index, &known);
-      if (!known) r.fail_at(ekey + ".name", "'" + t.name + "' names no node");
-      if (const json* d = r.find(value, "dtype")) {
-        const std::string dt = r.string(*d, ekey + ".dtype");
-        t.dtype = dtype_from_tf(dt);
-        if (!t.dtype) r.fail_at(ekey + ".dtype", "unknown dtype '" + dt + "'");
-      }
-      if (const json* s = r.find(value, "tensorShape"))
-        t.shape = r.shape(*s, ekey + ".tensorShape");
-      out.push_back(std::move(t));
+  const json* entries = signature ? r.find(*signature, section) : nullptr;
+  if (entries == nullptr) return out;
+  const std::string skey = std::string("signature.") + section;
+  if (!entries->is_object()) r.fail_at(skey, "expected an object");
+  for (const auto& [key, value] : entries->items()) {
+    const std::string ekey = skey + "." + key;
+    SignatureTensor t;
+    t.key = key;
+    t.name = r.string(r.need(value, "name", ekey), ekey + ".name");
+    bool known = false;
+    t.ref = parse_ref(t.name, model.index, &known);
+    if (!known) r.fail_at(ekey + ".name", "'" + t.name + "' names no node");
+    if (const json* d = r.find(value, "dtype")) {
+      const std::string dt = r.string(*d, ekey + ".dtype");
+      t.dtype = dtype_from_tf(dt);
+      if (!t.dtype) r.fail_at(ekey + ".dtype", "unknown dtype '" + dt + "'");
     }
-  };
-  read_signature("inputs", model.inputs);
-  read_signature("outputs", model.outputs);
-  if (model.inputs.empty()) {
-    for (std::size_t n = 0; n < model.nodes.size(); ++n) {
-      const GraphNode& node = model.nodes[n];
-      if (node.op != "Placeholder") continue;
-      SignatureTensor t;
-      t.key = node.name;
-      t.name = node.name + ":0";
-      t.ref = {static_cast<int>(n), 0};
-      if (const AttrValue* d = node.attr("dtype"); d && d->kind == AttrValue::Kind::kType) {
-        t.dtype = d->type;
-      }
-      if (const AttrValue* s = node.attr("shape"); s && s->kind == AttrValue::Kind::kShape) {
-        t.shape = s->shape;
-      }
-      model.inputs.push_back(std::move(t));
-    }
+    if (const json* s = r.find(value, "tensorShape")) t.shape = r.shape(*s, ekey + ".tensorShape");
+    out.push_back(std::move(t));
   }
+  return out;
+}
+
+// Without a declared signature: the Placeholders are the inputs.
+std::vector<SignatureTensor> placeholder_inputs(const TfjsModel& model) {
+  std::vector<SignatureTensor> inputs;
+  for (std::size_t n = 0; n < model.nodes.size(); ++n) {
+    const GraphNode& node = model.nodes[n];
+    if (node.op != "Placeholder") continue;
+    SignatureTensor t;
+    t.key = node.name;
+    t.name = node.name + ":0";
+    t.ref = {static_cast<int>(n), 0};
+    if (const AttrValue* d = node.attr("dtype"); d && d->kind == AttrValue::Kind::kType) {
+      t.dtype = d->type;
+    }
+    if (const AttrValue* s = node.attr("shape"); s && s->kind == AttrValue::Kind::kShape) {
+      t.shape = s->shape;
+    }
+    inputs.push_back(std::move(t));
+  }
+  return inputs;
+}
+
+// Without a declared signature: the nodes nothing consumes are the outputs.
+std::vector<SignatureTensor> unconsumed_outputs(const TfjsModel& model) {
+  std::vector<SignatureTensor> outputs;
+  std::vector<bool> consumed(model.nodes.size(), false);
+  for (const GraphNode& node : model.nodes) {
+    for (const TensorRef& in : node.inputs) consumed[in.node] = true;
+  }
+  for (std::size_t n = 0; n < model.nodes.size(); ++n) {
+    const std::string& op = model.nodes[n].op;
+    if (consumed[n] || op == "Const" || op == "Placeholder" || op == "NoOp") continue;
+    SignatureTensor t;
+    t.key = model.nodes[n].name;
+    t.name = model.nodes[n].name + ":0";
+    t.ref = {static_cast<int>(n), 0};
+    outputs.push_back(std::move(t));
+  }
+  return outputs;
+}
+
+}  // namespace
+
+TfjsModel load_tfjs_model(const fs::path& json_path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(json_path, ec)) fail(json_path, "no such model file");
+  const Reader r(json_path);
+  json doc;
+  try {
+    doc = json::parse(read_file(json_path));
+  } catch (const json::parse_error& e) {
+    fail(json_path, std::string("corrupt or truncated JSON (") + e.what() + ")");
+  }
+  if (!doc.is_object()) fail(json_path, "expected a JSON object (a TF.js model.json)");
+
+  TfjsModel model;
+  model.topology_path = json_path;
+  if (const json* f = r.find(doc, "format")) model.format = r.string(*f, "format");
+  if (!model.format.empty() && model.format != "graph-model") {
+    r.fail_at("format", "'" + model.format + "' is not a TF.js graph model");
+  }
+  if (const json* g = r.find(doc, "generatedBy")) {
+    model.generated_by = g->is_string() ? g->get<std::string>() : g->dump();
+  }
+  const json& topology = r.need(doc, "modelTopology", "modelTopology");
+  const json& node_list = r.array(r.need(topology, "node", "modelTopology"), "modelTopology.node");
+  std::unordered_map<std::string, HostTensor> weights =
+      read_weights(r, r.need(doc, "weightsManifest", "weightsManifest"));
+
+  std::vector<RawNode> raw;
+  raw.reserve(node_list.size());
+  std::unordered_map<std::string, int> file_index;
+  for (std::size_t n = 0; n < node_list.size(); ++n) {
+    raw.push_back(read_node(r, node_list[n], n, file_index, weights));
+  }
+  resolve_inputs(raw, file_index, json_path);
+  place_nodes(raw, topological_order(raw, json_path), model);
+
+  model.inputs = read_signature(r, doc, "inputs", model);
+  model.outputs = read_signature(r, doc, "outputs", model);
+  if (model.inputs.empty()) model.inputs = placeholder_inputs(model);
   for (const SignatureTensor& t : model.inputs) {
     if (model.nodes[t.ref.node].op != "Placeholder") {
       r.fail_at("signature.inputs." + t.key, "'" + t.name + "' is not a Placeholder");
     }
   }
-  if (model.outputs.empty()) {
-    std::vector<bool> consumed(model.nodes.size(), false);
-    for (const GraphNode& node : model.nodes) {
-      for (const TensorRef& in : node.inputs) consumed[in.node] = true;
-    }
-    for (std::size_t n = 0; n < model.nodes.size(); ++n) {
-      const std::string& op = model.nodes[n].op;
-      if (consumed[n] || op == "Const" || op == "Placeholder" || op == "NoOp") continue;
-      SignatureTensor t;
-      t.key = model.nodes[n].name;
-      t.name = model.nodes[n].name + ":0";
-      t.ref = {static_cast<int>(n), 0};
-      model.outputs.push_back(std::move(t));
-    }
-  }
+  if (model.outputs.empty()) model.outputs = unconsumed_outputs(model);
   if (model.outputs.empty()) fail(json_path, "the graph has no outputs");
   return model;
 }
