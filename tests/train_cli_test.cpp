@@ -66,6 +66,8 @@ TEST(TrainCli, StoppedRunResumesExactlyAndItsWeightsPredict) {
   r = run_wheelpose(small_run(gt, dir / "parts") + " --resume");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(same_bytes(dir / "whole" / "last.pt", dir / "parts" / "last.pt"));
+  // The optimizer's state too, in a fixed order (LibTorch's own save writes it in address order).
+  EXPECT_TRUE(same_bytes(dir / "whole" / "checkpoint.pt", dir / "parts" / "checkpoint.pt"));
   EXPECT_EQ(log_without_speed(dir / "whole" / "train_log.csv"),
             log_without_speed(dir / "parts" / "train_log.csv"));
   // Four rows and a header, every loss finite.
@@ -102,6 +104,7 @@ TEST(TrainCli, KilledRunsResumeExactly) {
   ASSERT_EQ(killed.failure, "");
   EXPECT_GE(killed.kills, 2);
   EXPECT_TRUE(same_bytes(dir / "whole" / "last.pt", dir / "killed" / "last.pt"));
+  EXPECT_TRUE(same_bytes(dir / "whole" / "checkpoint.pt", dir / "killed" / "checkpoint.pt"));
   EXPECT_EQ(log_without_speed(dir / "whole" / "train_log.csv"),
             log_without_speed(dir / "killed" / "train_log.csv"));
 }
@@ -199,6 +202,7 @@ TEST(TrainCli, TwoProcessesTrainOneRunAndResumeExactly) {
   pair(dir / "parts", " --stop-after 2", "store_a");
   pair(dir / "parts", " --resume", "store_b");
   EXPECT_TRUE(same_bytes(dir / "whole" / "last.pt", dir / "parts" / "last.pt"));
+  EXPECT_TRUE(same_bytes(dir / "whole" / "checkpoint.pt", dir / "parts" / "checkpoint.pt"));
   EXPECT_EQ(log, log_without_speed(dir / "parts" / "train_log.csv"));
 
   auto r = run_wheelpose(small_run(gt, dir / "odd") + " --world-size 3 --rank 0 --rendezvous " +

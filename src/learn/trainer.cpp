@@ -17,8 +17,10 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/keypoint_template.h"
+#include "learn/checkpoint.h"
 #include "learn/data_parallel.h"
 #include "learn/graph_module.h"
+#include "learn/train_logs.h"
 #include "learn/train_step.h"
 #include "learn/training_curves.h"
 #include "learn/validation.h"
@@ -80,119 +82,140 @@ void check(const TrainOptions& o) {
   }
 }
 
-const char* const kLogHeader =
-    "step,learning_rate,loss,centre,keypoint_heatmap,keypoint_regression,keypoint_offset,"
-    "box_scale,box_offset,images_per_second\n";
+// Weights are split in two groups: the heads, and the backbone at backbone_lr_scale of their
+// rate (its folded batch norm makes it far more sensitive to a step than the heads are).
+struct ParameterGroups {
+  std::vector<Tensor> heads, backbone;
+};
 
-std::string log_row(const StepReport& r) {
-  std::ostringstream row;
-  row.precision(6);
-  row << r.step << ',' << r.learning_rate << ',' << r.loss << ',' << r.centre << ','
-      << r.keypoint_heatmap << ',' << r.keypoint_regression << ',' << r.keypoint_offset << ','
-      << r.box_scale << ',' << r.box_offset << ',' << r.images_per_second << '\n';
-  return row.str();
-}
-
-const char* const kValHeader = "step,keypoint_ap,keypoint_ap50,keypoint_ar,box_ap,box_ap50\n";
-
-std::string val_row(const ValidationRow& r) {
-  std::ostringstream row;
-  row.precision(6);
-  row << r.step << ',' << r.keypoint_ap << ',' << r.keypoint_ap50 << ',' << r.keypoint_ar << ','
-      << r.box_ap << ',' << r.box_ap50 << '\n';
-  return row.str();
-}
-
-// A CSV log's header and its rows up to `step` (a killed run may have logged past its last
-// checkpoint; those steps run again).
-std::string log_prefix(const fs::path& path, int step, const std::string& header) {
-  std::string kept = header;
-  if (!fs::exists(path)) return kept;
-  std::istringstream in(read_file(path));
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    if (line.empty()) continue;
-    if (std::stoi(line.substr(0, line.find(','))) > step) break;
-    kept += line + '\n';
+ParameterGroups split_parameters(GraphModule& model) {
+  ParameterGroups groups;
+  for (const auto& p : model.named_parameters()) {
+    const bool in_backbone = p.key().find("feature_extractor") != std::string::npos;
+    (in_backbone ? groups.backbone : groups.heads).push_back(p.value());
   }
-  return kept;
+  return groups;
 }
 
-// The validation rows of a val_log.csv text.
-std::vector<ValidationRow> parse_val_log(const std::string& text) {
-  std::vector<ValidationRow> rows;
-  std::istringstream in(text);
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    if (line.empty()) continue;
-    std::istringstream fields(line);
-    ValidationRow r;
-    char comma = 0;
-    fields >> r.step >> comma >> r.keypoint_ap >> comma >> r.keypoint_ap50 >> comma >>
-        r.keypoint_ar >> comma >> r.box_ap >> comma >> r.box_ap50;
-    rows.push_back(r);
+// The training images, their cumulative draw weights and the flip pairs of COCO's 17 keypoints.
+Data load_data(const TrainOptions& o) {
+  Data data;
+  data.set = load_train_set(o.train);
+  for (const TrainImage& image : data.set.images) {
+    data.cumulative.push_back((data.cumulative.empty() ? 0 : data.cumulative.back()) +
+                              image.weight);
   }
-  return rows;
+  data.flip_pairs = load_keypoint_template("coco17").flip_pairs;
+  spdlog::info("train: {} images, {} people with keypoints", data.set.images.size(),
+               data.set.labelled_people);
+  return data;
 }
 
-nlohmann::json val_json(const ValidationRow& r) {
-  return {{"step", r.step},
-          {"keypoint_ap", r.keypoint_ap},
-          {"keypoint_ap50", r.keypoint_ap50},
-          {"keypoint_ar", r.keypoint_ar},
-          {"box_ap", r.box_ap},
-          {"box_ap50", r.box_ap50}};
-}
+// Batches made on worker threads ahead of the optimizer, handed out in step order.
+class BatchQueue {
+ public:
+  BatchQueue(const Data& data, const TrainOptions& o, int first_step)
+      : data_(data), o_(o), next_to_load_(first_step) {}
+  // Batches still being prepared finish before `data` goes away (futures from std::async
+  // block in their destructors); they are simply dropped.
+  ~BatchQueue() { ahead_.clear(); }
 
-void save_checkpoint(GraphModule& model, torch::optim::AdamW& optimizer, int step,
-                     const std::string& key, const fs::path& out_dir) {
-  torch::serialize::OutputArchive archive;
-  for (const auto& p : model.named_parameters()) archive.write("model/" + p.key(), p.value());
-  torch::serialize::OutputArchive optimizer_archive;
-  optimizer.save(optimizer_archive);
-  archive.write("optimizer", optimizer_archive);
-  archive.write("step", torch::tensor(static_cast<std::int64_t>(step)));
-  archive.write("resume_key", c10::IValue(key));
-  std::ostringstream bytes;
-  archive.save_to(bytes);
-  // last.pt first: killed between the two, the resume starts from the older checkpoint and
-  // writes last.pt again; the other order would leave a stale last.pt behind a final checkpoint.
-  model.save(out_dir / "last.pt");
-  write_file_atomic(out_dir / "checkpoint.pt", bytes.str());
-}
+  TrainBatch next() {
+    fill();
+    TrainBatch batch = ahead_.front().get();
+    ahead_.pop_front();
+    fill();
+    return batch;
+  }
 
-int load_checkpoint(GraphModule& model, torch::optim::AdamW& optimizer, const std::string& key,
-                    const fs::path& out_dir) {
-  const fs::path path = out_dir / "checkpoint.pt";
-  if (!fs::exists(path)) throw Error(path.string() + ": no checkpoint to resume from");
-  torch::serialize::InputArchive archive;
-  try {
-    archive.load_from(path.string());
-    c10::IValue stored_key;
-    archive.read("resume_key", stored_key);
-    if (!stored_key.isString() || stored_key.toStringRef() != key) {
-      throw Error(path.string() + ": written with other settings; resume needs the same " +
-                  "--train, --model, --steps, --batch, --lr, --seed, … as the first run (see " +
-                  (out_dir / "options.json").string() + ")");
+ private:
+  void fill() {
+    while (static_cast<int>(ahead_.size()) < o_.loader_threads + 1 && next_to_load_ < o_.steps) {
+      ahead_.push_back(std::async(std::launch::async, make_batch, std::cref(data_), std::cref(o_),
+                                  next_to_load_++));
     }
-    torch::NoGradGuard no_grad;
-    for (auto& p : model.named_parameters()) {
-      Tensor value;
-      archive.read("model/" + p.key(), value);
-      p.value().copy_(value);
-    }
-    torch::serialize::InputArchive optimizer_archive;
-    archive.read("optimizer", optimizer_archive);
-    optimizer.load(optimizer_archive);
-    Tensor step;
-    archive.read("step", step);
-    return static_cast<int>(step.item<std::int64_t>());
-  } catch (const c10::Error& e) {
-    throw Error(path.string() + ": not a checkpoint of this model (" +
-                std::string(e.what_without_backtrace()).substr(0, 160) + ")");
   }
+  const Data& data_;
+  const TrainOptions& o_;
+  int next_to_load_;
+  std::deque<std::future<TrainBatch>> ahead_;
+};
+
+// --val: scores weights with the validator (which only the writing process has), keeps
+// val_log.csv and the best weights (best.pt, best.json).
+class ValidationKeeper {
+ public:
+  ValidationKeeper(const TrainOptions& o, std::optional<Validator>& validator, int start_step,
+                   TrainResult& result,
+                   const std::function<void(const ValidationRow&)>& on_validation)
+      : o_(o),
+        validator_(validator),
+        path_(o.out_dir / "val_log.csv"),
+        log_(log_prefix(path_, start_step, kValLogHeader)),
+        result_(result),
+        on_validation_(on_validation) {
+    for (const ValidationRow& r : parse_val_log(log_)) {
+      if (!result_.best || r.keypoint_ap > result_.best->keypoint_ap) result_.best = r;
+    }
+  }
+
+  bool due(int done) const {
+    return validator_ && (done == 0 || done % o_.val_every == 0 || done == o_.steps);
+  }
+
+  // The starting weights (or, after a kill during a validation, the checkpoint's) are scored
+  // first when their row is missing.
+  void score_start(GraphModule& model, int start_step) {
+    if (!due(start_step)) return;
+    const std::vector<ValidationRow> done = parse_val_log(log_);
+    if (done.empty() || done.back().step != start_step) score(model, start_step);
+  }
+
+  // Scores the current weights (saved as last.pt); the best so far becomes best.pt.
+  void score(GraphModule& model, int done) {
+    model.save(o_.out_dir / "last.pt");
+    const ValidationScores v = validator_->score(o_.model_json, o_.out_dir / "last.pt");
+    const ValidationRow row{done,          v.keypoint_ap, v.keypoint_ap50,
+                            v.keypoint_ar, v.box_ap,      v.box_ap50};
+    if (!result_.best || row.keypoint_ap > result_.best->keypoint_ap) {
+      write_file_atomic(o_.out_dir / "best.pt", read_file(o_.out_dir / "last.pt"));
+      write_file_atomic(o_.out_dir / "best.json", val_json(row).dump(2) + "\n");
+      result_.best = row;
+    }
+    log_ += val_log_row(row);
+    write_file_atomic(path_, log_);
+    result_.validation.push_back(row);
+    if (on_validation_) on_validation_(row);
+  }
+
+ private:
+  const TrainOptions& o_;
+  std::optional<Validator>& validator_;
+  fs::path path_;
+  std::string log_;
+  TrainResult& result_;
+  const std::function<void(const ValidationRow&)>& on_validation_;
+};
+
+// The step a run starts at: 0 for a new run (whose options.json it writes), the checkpoint's
+// for --resume (restoring model and optimizer and writing last.pt from them).
+int start_or_resume(const TrainOptions& o, bool writer, const std::string& key, GraphModule& model,
+                    torch::optim::AdamW& optimizer) {
+  if (o.resume) {
+    const int step = load_checkpoint(model, optimizer, key, o.out_dir);
+    spdlog::info("train: resuming at step {} of {}", step, o.steps);
+    // last.pt always holds the weights a resumed run starts from, even if it was lost.
+    if (writer) model.save(o.out_dir / "last.pt");
+    return step;
+  }
+  if (fs::exists(o.out_dir / "checkpoint.pt")) {
+    throw Error((o.out_dir / "checkpoint.pt").string() +
+                " exists: pass --resume to continue that run, or another --out");
+  }
+  if (writer) {
+    write_file_atomic(o.out_dir / "options.json", nlohmann::json::parse(key).dump(2) + "\n");
+  }
+  return 0;
 }
 
 }  // namespace
@@ -230,16 +253,7 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
   const bool writer = o.rank == 0;  // the one process that writes files
   std::optional<Validator> validator;
   if (o.val_coco && writer) validator.emplace(*o.val_coco, o.val_size, o.threads);
-  Data data;
-  data.set = load_train_set(o.train);
-  for (const TrainImage& image : data.set.images) {
-    data.cumulative.push_back((data.cumulative.empty() ? 0 : data.cumulative.back()) +
-                              image.weight);
-  }
-  data.flip_pairs = load_keypoint_template("coco17").flip_pairs;
-  spdlog::info("train: {} images, {} people with keypoints", data.set.images.size(),
-               data.set.labelled_people);
-
+  const Data data = load_data(o);
   torch::set_num_threads(o.threads > 0 ? o.threads
                                        : std::max(1u, std::thread::hardware_concurrency()));
   GraphModule model(o.model_json);
@@ -249,42 +263,21 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
   }
   if (o.init_weights) model.load(*o.init_weights);
   model.train();
-  // Two groups: the heads, and the backbone at backbone_lr_scale of their rate (its folded
-  // batch norm makes it far more sensitive to a step than the heads are).
-  std::vector<Tensor> head_params, backbone_params;
-  std::vector<std::pair<std::string, Tensor>> backbone;
-  for (const auto& p : model.named_parameters()) {
-    const bool in_backbone = p.key().find("feature_extractor") != std::string::npos;
-    (in_backbone ? backbone_params : head_params).push_back(p.value());
-    if (in_backbone) backbone.emplace_back(p.key(), p.value());
-  }
+  const ParameterGroups groups = split_parameters(model);
   const torch::optim::AdamWOptions group_options =
       torch::optim::AdamWOptions(o.learning_rate).weight_decay(o.weight_decay);
   torch::optim::AdamW optimizer(
       {torch::optim::OptimizerParamGroup(
-           head_params, std::make_unique<torch::optim::AdamWOptions>(group_options)),
+           groups.heads, std::make_unique<torch::optim::AdamWOptions>(group_options)),
        torch::optim::OptimizerParamGroup(
-           backbone_params, std::make_unique<torch::optim::AdamWOptions>(group_options))},
+           groups.backbone, std::make_unique<torch::optim::AdamWOptions>(group_options))},
       group_options);
   const std::vector<double> group_scale = {1.0, o.backbone_lr_scale};
 
   ensure_directory(o.out_dir);
   const std::string key = resume_key(o);
   TrainResult result;
-  if (o.resume) {
-    result.start_step = load_checkpoint(model, optimizer, key, o.out_dir);
-    spdlog::info("train: resuming at step {} of {}", result.start_step, o.steps);
-    // last.pt always holds the weights a resumed run starts from, even if it was lost.
-    if (writer) model.save(o.out_dir / "last.pt");
-  } else {
-    if (fs::exists(o.out_dir / "checkpoint.pt")) {
-      throw Error((o.out_dir / "checkpoint.pt").string() +
-                  " exists: pass --resume to continue that run, or another --out");
-    }
-    if (writer) {
-      write_file_atomic(o.out_dir / "options.json", nlohmann::json::parse(key).dump(2) + "\n");
-    }
-  }
+  result.start_step = start_or_resume(o, writer, key, model, optimizer);
   std::unique_ptr<GradientAverager> averager;
   if (o.world_size > 1) {
     spdlog::info("train: joining {} as rank {} of {}", o.rendezvous, o.rank, o.world_size);
@@ -296,54 +289,15 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
                      [&](StepReport& parts) { averager->average(parameters, parts); })
                : std::function<void(StepReport&)>();
   const fs::path log_path = o.out_dir / "train_log.csv";
-  std::string log = log_prefix(log_path, result.start_step, kLogHeader);
-  const fs::path val_log_path = o.out_dir / "val_log.csv";
-  std::string val_log = log_prefix(val_log_path, result.start_step, kValHeader);
-  for (const ValidationRow& r : parse_val_log(val_log)) {
-    if (!result.best || r.keypoint_ap > result.best->keypoint_ap) result.best = r;
-  }
-  auto validation_due = [&](int done) {
-    return validator && (done == 0 || done % o.val_every == 0 || done == o.steps);
-  };
-  // Scores the current weights (saved as last.pt); the best so far becomes best.pt.
-  auto validate = [&](int done) {
-    model.save(o.out_dir / "last.pt");
-    const ValidationScores v = validator->score(o.model_json, o.out_dir / "last.pt");
-    const ValidationRow row{done,          v.keypoint_ap, v.keypoint_ap50,
-                            v.keypoint_ar, v.box_ap,      v.box_ap50};
-    if (!result.best || row.keypoint_ap > result.best->keypoint_ap) {
-      write_file_atomic(o.out_dir / "best.pt", read_file(o.out_dir / "last.pt"));
-      write_file_atomic(o.out_dir / "best.json", val_json(row).dump(2) + "\n");
-      result.best = row;
-    }
-    val_log += val_row(row);
-    write_file_atomic(val_log_path, val_log);
-    result.validation.push_back(row);
-    if (on_validation) on_validation(row);
-  };
-  // The starting weights (or, after a kill during a validation, the checkpoint's) are scored
-  // first when their row is missing.
-  if (validation_due(result.start_step)) {
-    const std::vector<ValidationRow> done = parse_val_log(val_log);
-    if (done.empty() || done.back().step != result.start_step) validate(result.start_step);
-  }
+  std::string log = log_prefix(log_path, result.start_step, kTrainLogHeader);
+  ValidationKeeper validation(o, validator, result.start_step, result, on_validation);
+  validation.score_start(model, result.start_step);
 
-  std::deque<std::future<TrainBatch>> ahead;
-  int next_to_load = result.start_step;
-  auto fill = [&] {
-    while (static_cast<int>(ahead.size()) < o.loader_threads + 1 && next_to_load < o.steps) {
-      ahead.push_back(std::async(std::launch::async, make_batch, std::cref(data), std::cref(o),
-                                 next_to_load++));
-    }
-  };
+  BatchQueue batches(data, o, result.start_step);
   for (int step = result.start_step; step < o.steps; ++step) {
     const auto start = std::chrono::steady_clock::now();
-    fill();
-    TrainBatch batch = ahead.front().get();
-    ahead.pop_front();
-    fill();
-    const bool frozen = step < o.freeze_backbone_steps;
-    for (auto& [name, p] : backbone) p.requires_grad_(!frozen);
+    const TrainBatch batch = batches.next();
+    for (const Tensor& p : groups.backbone) p.requires_grad_(step >= o.freeze_backbone_steps);
     const double lr = learning_rate_at(o, step);
     for (std::size_t g = 0; g < optimizer.param_groups().size(); ++g) {
       static_cast<torch::optim::AdamWOptions&>(optimizer.param_groups()[g].options())
@@ -355,11 +309,11 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
     report.step = step + 1;
     report.learning_rate = lr;
     report.images_per_second = o.batch / std::max(seconds, 1e-9);
-    log += log_row(report);
+    log += train_log_row(report);
     result.steps.push_back(report);
     if (on_step) on_step(report);
     const bool stop = o.stop_after > 0 && report.step >= o.stop_after;
-    const bool validating = validation_due(report.step);
+    const bool validating = validation.due(report.step);
     const bool checkpoint =
         report.step % o.checkpoint_every == 0 || report.step == o.steps || stop || validating;
     if (writer && checkpoint) {
@@ -367,15 +321,12 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
       // checkpoint and trains them again; the other order would lose rows.
       write_file_atomic(log_path, log);
       save_checkpoint(model, optimizer, report.step, key, o.out_dir);
-      if (validating) validate(report.step);
+      if (validating) validation.score(model, report.step);
       draw_training_curves(o.out_dir);
     }
     if (stop) break;
   }
-  // Batches already being prepared finish before `data` goes away (futures from std::async
-  // block in their destructors); they are simply dropped.
-  ahead.clear();
-  for (auto& [name, p] : backbone) p.requires_grad_(true);
+  for (const Tensor& p : groups.backbone) p.requires_grad_(true);
   return result;
 }
 
