@@ -1,5 +1,5 @@
-// FrameDraft → Scene: people built by the body stage, dressed by splitting the body mesh at
-// the nearest rig bone, their chairs, empty chairs, occluders and the wall or room.
+// FrameDraft → Scene: people built, dressed and placed by the body stage (body/placed_person.h)
+// become instances with the outfit's materials; empty chairs, occluders and the wall or room.
 
 #include "generate/frame_builder.h"
 
@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 
+#include "body/placed_person.h"
 #include "core/error.h"
 #include "core/random.h"
 #include "scene/primitives.h"
@@ -16,70 +17,14 @@ namespace {
 
 using Eigen::Vector3f;
 
-enum Garment { kSkin = 0, kTop = 1, kBottom = 2, kShoes = 3 };
-
-bool starts_with(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
-
-// What covers the body around each rig bone.
-Garment garment_of_bone(const std::string& bone, const Outfit& outfit) {
-  if (starts_with(bone, "head") || starts_with(bone, "neck") || starts_with(bone, "hand") ||
-      starts_with(bone, "thumb") || starts_with(bone, "index") || starts_with(bone, "middle") ||
-      starts_with(bone, "ring") || starts_with(bone, "pinky")) {
-    return kSkin;
-  }
-  if (starts_with(bone, "lowerarm")) return outfit.long_sleeves ? kTop : kSkin;
-  if (starts_with(bone, "calf")) return outfit.long_trousers ? kBottom : kSkin;
-  if (starts_with(bone, "foot") || starts_with(bone, "ball")) return kShoes;
-  if (starts_with(bone, "pelvis") || starts_with(bone, "thigh")) return kBottom;
-  return kTop;
-}
-
-float segment_distance2(const Vector3f& p, const Vector3f& a, const Vector3f& b) {
-  const Vector3f ab = b - a;
-  const float len2 = ab.squaredNorm();
-  const float t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0f, 1.0f) : 0.0f;
-  return (a + t * ab - p).squaredNorm();
-}
-
-// Garment per vertex from the nearest bone of the rest (unposed) body.
-std::vector<Garment> vertex_garments(const body::Person& person, const body::Rig& rig,
-                                     const Outfit& outfit) {
-  std::vector<Garment> bone_garment(rig.bones.size());
-  for (std::size_t b = 0; b < rig.bones.size(); ++b)
-    bone_garment[b] = garment_of_bone(rig.bones[b].name, outfit);
-  std::vector<Garment> out(person.rest_vertices.size(), kTop);
-  for (std::size_t v = 0; v < person.rest_vertices.size(); ++v) {
-    float best = INFINITY;
-    for (std::size_t b = 0; b < rig.bones.size(); ++b) {
-      const float d = segment_distance2(person.rest_vertices[v], person.rest_bones.head[b],
-                                        person.rest_bones.tail[b]);
-      if (d < best) {
-        best = d;
-        out[v] = bone_garment[b];
-      }
-    }
-  }
-  return out;
-}
-
-// Cylindrical UVs around the rest body so procedural fabric wraps it.
-Eigen::Vector2f body_uv(const Vector3f& rest) {
-  return Eigen::Vector2f(static_cast<float>(std::atan2(rest.x(), rest.z()) / (2 * M_PI) + 0.5),
-                         rest.y() / 1.8f);
-}
-
-// A body-stage mesh (chair part, aid, furniture model) placed in the world.
-scene::Mesh transformed_mesh(const body::TriMesh& part, const std::string& name,
-                             const Eigen::Affine3f& to_world) {
+// A placed body-stage part as a scene mesh named `name`.
+scene::Mesh scene_mesh(body::PlacedPart part, const std::string& name) {
   scene::Mesh mesh;
   mesh.name = name;
-  mesh.positions.reserve(part.vertices.size());
-  for (const Vector3f& v : part.vertices) mesh.positions.push_back(to_world * v);
-  for (const Vector3f& n : part.normals)
-    mesh.normals.push_back((to_world.linear() * n).normalized());
-  for (const auto& t : part.triangles)
-    mesh.triangles.emplace_back(static_cast<int>(t[0]), static_cast<int>(t[1]),
-                                static_cast<int>(t[2]));
+  mesh.positions = std::move(part.positions);
+  mesh.normals = std::move(part.normals);
+  mesh.uvs = std::move(part.uvs);
+  mesh.triangles = std::move(part.triangles);
   return mesh;
 }
 
@@ -113,8 +58,9 @@ class SceneAssembler {
     auto it = primitive_meshes_.find(key);
     if (it != primitive_meshes_.end()) return it->second;
     // The models carry no normals: flat faces keep their hard edges.
-    const int index = add_mesh(transformed_mesh(catalog.mesh(item), catalog.items()[item].name,
-                                                Eigen::Affine3f::Identity()));
+    const int index =
+        add_mesh(scene_mesh(body::placed_mesh(catalog.mesh(item), Eigen::Affine3f::Identity()),
+                            catalog.items()[item].name));
     primitive_meshes_.emplace(key, index);
     return index;
   }
@@ -141,31 +87,68 @@ Eigen::Matrix4f trs(const Vector3f& position, const Eigen::Quaternionf& rotation
   return a.matrix();
 }
 
-void add_chair(SceneAssembler& out, const body::Wheelchair& chair,
-               const std::array<Vector3f, 4>& colours, const Eigen::Affine3f& to_world,
-               const std::string& name, std::uint16_t id) {
-  static const char* kPartNames[] = {"frame", "upholstery", "tyre", "trim"};
-  for (int m = 0; m < 4; ++m) {
-    scene::Mesh mesh =
-        transformed_mesh(body::primitive_mesh(chair, m), name + "_" + kPartNames[m], to_world);
-    if (mesh.triangles.empty()) continue;
-    scene::Material material;
-    material.name = mesh.name;
-    material.diffuse = colours[static_cast<std::size_t>(m)];
-    material.specular = m == 0 ? 0.4f : 0.05f;
-    material.shininess = m == 0 ? 64.0f : 16.0f;
-    out.add_instance(mesh.name, out.add_mesh(std::move(mesh)), out.add_material(material),
-                     Eigen::Matrix4f::Identity(), id, kSemanticWheelchair);
+// The material a placed part wears: the outfit's colour for it, the person's skin, or the part's
+// own colour (a person's chair may have chosen colours instead).
+scene::Material part_material(const body::PlacedPart& part, const Outfit& outfit,
+                              const std::optional<std::array<Vector3f, 4>>& chair_colours) {
+  scene::Material material;
+  switch (part.paint) {
+    case body::Paint::kTop:
+      return outfit.top;
+    case body::Paint::kBottom:
+      return outfit.bottom;
+    case body::Paint::kShoes:
+      return outfit.shoes;
+    case body::Paint::kHair:
+      return outfit.hair;
+    case body::Paint::kEyes:
+      return outfit.eyes;
+    case body::Paint::kSkin:
+      material.diffuse = part.colour;
+      material.specular = 0.08f;
+      material.shininess = 24.0f;
+      return material;
+    case body::Paint::kOwnColour:
+      break;
   }
+  const bool frame = part.material == 0;
+  if (part.owner == body::PartOwner::kMobilityAid) {
+    material.diffuse = part.colour;
+    material.specular = frame ? 0.5f : 0.05f;
+    material.shininess = 64.0f;
+    return material;
+  }
+  material.diffuse =
+      chair_colours ? (*chair_colours)[static_cast<std::size_t>(part.material)] : part.colour;
+  material.specular = frame ? 0.4f : 0.05f;
+  material.shininess = frame ? 64.0f : 16.0f;
+  return material;
 }
 
-std::array<Vector3f, 4> chair_colours(const body::Wheelchair& chair,
-                                      const std::optional<std::array<Vector3f, 4>>& chosen) {
-  if (chosen) return *chosen;
-  std::array<Vector3f, 4> c;
-  for (std::size_t i = 0; i < 4; ++i)
-    c[i] = i < chair.colours.size() ? chair.colours[i] : Vector3f(0.2f, 0.2f, 0.2f);
-  return c;
+// The instance ids of what a person (or an empty chair) is made of.
+struct PartIds {
+  std::uint16_t body = 0, wheelchair = 0, aid = 0;
+};
+
+// Each part as an instance of its own mesh and material, named `prefix`_`part name`.
+void add_parts(SceneAssembler& out, std::vector<body::PlacedPart> parts, const std::string& prefix,
+               const PartIds& ids, const Outfit& outfit,
+               const std::optional<std::array<Vector3f, 4>>& chair_colours) {
+  for (body::PlacedPart& part : parts) {
+    const std::string name = prefix + "_" + part.name;
+    scene::Material material = part_material(part, outfit, chair_colours);
+    material.name = name;
+    std::uint16_t id = ids.body, semantic = kSemanticPerson;
+    if (part.owner == body::PartOwner::kWheelchair) {
+      id = ids.wheelchair;
+      semantic = kSemanticWheelchair;
+    } else if (part.owner == body::PartOwner::kMobilityAid) {
+      id = ids.aid;
+      semantic = kSemanticMobilityAid;
+    }
+    out.add_instance(name, out.add_mesh(scene_mesh(std::move(part), name)),
+                     out.add_material(material), Eigen::Matrix4f::Identity(), id, semantic);
+  }
 }
 
 // Built-in clips in which both hands drive the push rims throughout; their people get the hands
@@ -183,108 +166,6 @@ motion::PoseRotations clip_pose(const motion::SeatedClip& clip, double time) {
   const double f = std::floor(time * clip.motion.fps);
   const std::size_t frame = f <= 0 ? 0 : std::min(count - 1, static_cast<std::size_t>(f));
   return motion::global_rotations(clip.motion, frame);
-}
-
-// The body, split into skin and the outfit's top, bottom and shoes: a worn suit covers the body,
-// so what shows of it is skin; otherwise the body is painted by bone.
-void add_body(SceneAssembler& out, const body::Person& person, const PersonDraft& p,
-              const body::BodyData& body_data, const Eigen::Affine3f& to_world,
-              const std::string& name, std::uint16_t id) {
-  std::vector<Vector3f> world(person.vertices.size());
-  for (std::size_t v = 0; v < world.size(); ++v) world[v] = to_world * person.vertices[v];
-  const std::vector<Vector3f> normals = body::vertex_normals(world, person.triangles);
-  const bool suited =
-      std::any_of(person.garments.begin(), person.garments.end(), [](const body::Garment& g) {
-        return g.name.rfind("clothes/", 0) == 0 && g.name.find("shoes") == std::string::npos &&
-               (g.name.rfind("clothes/male_", 0) == 0 || g.name.rfind("clothes/female_", 0) == 0);
-      });
-  const std::vector<Garment> garment =
-      suited ? std::vector<Garment>(person.rest_vertices.size(), kSkin)
-             : vertex_garments(person, body_data.rig(), p.outfit);
-  static const char* kGarmentNames[] = {"skin", "top", "bottom", "shoes"};
-  for (int g = kSkin; g <= kShoes; ++g) {
-    scene::Mesh mesh;
-    mesh.name = name + "_" + kGarmentNames[g];
-    std::vector<int> local(world.size(), -1);
-    for (const auto& t : person.triangles) {
-      if (garment[t[0]] != g) continue;
-      Eigen::Vector3i tri;
-      for (int c = 0; c < 3; ++c) {
-        int& l = local[t[c]];
-        if (l < 0) {
-          l = static_cast<int>(mesh.positions.size());
-          mesh.positions.push_back(world[t[c]]);
-          mesh.normals.push_back(normals[t[c]]);
-          mesh.uvs.push_back(body_uv(person.rest_vertices[t[c]]));
-        }
-        tri[c] = l;
-      }
-      mesh.triangles.push_back(tri);
-    }
-    if (mesh.triangles.empty()) continue;
-    scene::Material material;
-    if (g == kSkin) {
-      material.name = mesh.name;
-      material.diffuse = person.skin;
-      material.specular = 0.08f;
-      material.shininess = 24.0f;
-    } else {
-      material = g == kTop ? p.outfit.top : g == kBottom ? p.outfit.bottom : p.outfit.shoes;
-      material.name = mesh.name;
-    }
-    out.add_instance(mesh.name, out.add_mesh(std::move(mesh)), out.add_material(material),
-                     Eigen::Matrix4f::Identity(), id, kSemanticPerson);
-  }
-}
-
-// The MakeHuman clothes, hair, eyebrows and eyes worn, each in the outfit's colour for it.
-void add_garments(SceneAssembler& out, const body::Person& person, const PersonDraft& p,
-                  const Eigen::Affine3f& to_world, const std::string& name, std::uint16_t id) {
-  for (std::size_t gi = 0; gi < person.garments.size(); ++gi) {
-    const body::Garment& g = person.garments[gi];
-    if (g.triangles.empty()) continue;
-    scene::Mesh mesh;
-    mesh.name = name + "_" + g.name.substr(g.name.find('/') + 1);
-    mesh.positions.reserve(g.vertices.size());
-    for (const Vector3f& v : g.vertices) mesh.positions.push_back(to_world * v);
-    std::vector<std::array<unsigned, 3>> tris = g.triangles;
-    mesh.normals = body::vertex_normals(mesh.positions, tris);
-    for (const Vector3f& r : g.rest_vertices) mesh.uvs.push_back(body_uv(r));
-    for (const auto& t : tris)
-      mesh.triangles.emplace_back(static_cast<int>(t[0]), static_cast<int>(t[1]),
-                                  static_cast<int>(t[2]));
-    const bool hair = g.name.rfind("hair/", 0) == 0 || g.name.rfind("eyebrows/", 0) == 0;
-    const bool eyes = g.name.rfind("eyes/", 0) == 0;
-    const bool shoes = g.name.find("shoes") != std::string::npos;
-    const bool suit =
-        g.name.rfind("clothes/male_", 0) == 0 || g.name.rfind("clothes/female_", 0) == 0;
-    scene::Material material = eyes    ? p.outfit.eyes
-                               : hair  ? p.outfit.hair
-                               : shoes ? p.outfit.shoes
-                               : suit  ? p.outfit.top
-                                       : p.outfit.bottom;  // hats
-    material.name = mesh.name;
-    out.add_instance(mesh.name, out.add_mesh(std::move(mesh)), out.add_material(material),
-                     Eigen::Matrix4f::Identity(), id, kSemanticPerson);
-  }
-}
-
-void add_mobility_aid(SceneAssembler& out, const body::Person& person,
-                      const Eigen::Affine3f& to_world, const std::string& name, std::size_t k) {
-  static const char* kAidParts[] = {"frame", "grips"};
-  for (int m = 0; m < static_cast<int>(person.aid.colours.size()); ++m) {
-    scene::Mesh mesh = transformed_mesh(body::primitive_mesh(person.aid.parts, m),
-                                        name + "_mobility_aid_" + kAidParts[m], to_world);
-    if (mesh.triangles.empty()) continue;
-    scene::Material material;
-    material.name = mesh.name;
-    material.diffuse = person.aid.colours[static_cast<std::size_t>(m)];
-    material.specular = m == 0 ? 0.5f : 0.05f;
-    material.shininess = 64.0f;
-    out.add_instance(mesh.name, out.add_mesh(std::move(mesh)), out.add_material(material),
-                     Eigen::Matrix4f::Identity(), static_cast<std::uint16_t>(kAidIdBase + k + 1),
-                     kSemanticMobilityAid);
-  }
 }
 
 // The person's keypoints in the world and the attributes its annotation records.
@@ -340,14 +221,13 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
                         pelvis.z());
   const Eigen::Affine3f to_world = Eigen::Translation3f(p.position) * p.rotation *
                                    Eigen::Scaling(p.scale) * Eigen::Translation3f(-anchor);
-  const auto id = static_cast<std::uint16_t>(k + 1);
-  const std::string name = "person_" + std::to_string(k + 1);
-  add_body(out, person, p, body_data, to_world, name, id);
-  add_garments(out, person, p, to_world, name, id);
-  add_chair(out, person.chair, chair_colours(person.chair, p.chair_colours), to_world,
-            name + "_wheelchair", static_cast<std::uint16_t>(kChairIdBase + k + 1));
-  add_mobility_aid(out, person, to_world, name, k);
-  label_person(person, spec, p, clip, to_world, anchors, id, label);
+  const body::DressCode dress{p.outfit.long_sleeves, p.outfit.long_trousers};
+  const PartIds ids{static_cast<std::uint16_t>(k + 1),
+                    static_cast<std::uint16_t>(kChairIdBase + k + 1),
+                    static_cast<std::uint16_t>(kAidIdBase + k + 1)};
+  add_parts(out, body::place_person(person, body_data.rig(), dress, to_world),
+            "person_" + std::to_string(k + 1), ids, p.outfit, p.chair_colours);
+  label_person(person, spec, p, clip, to_world, anchors, ids.body, label);
 }
 
 void add_structure(SceneAssembler& out, const FrameDraft& draft) {
@@ -460,9 +340,10 @@ BuiltFrame build_frame(const FrameDraft& draft, const body::BodyData& body_data,
     const body::Wheelchair chair = body::make_empty_wheelchair(e.type, stream);
     const Eigen::Affine3f to_world =
         Eigen::Translation3f(e.position) * e.rotation * Eigen::Scaling(e.scale);
-    add_chair(out, chair, chair_colours(chair, std::nullopt), to_world,
-              "empty_wheelchair_" + std::to_string(i + 1),
-              static_cast<std::uint16_t>(kEmptyChairIdBase + std::min<std::size_t>(i + 1, 999)));
+    const PartIds ids{
+        0, static_cast<std::uint16_t>(kEmptyChairIdBase + std::min<std::size_t>(i + 1, 999))};
+    add_parts(out, body::place_wheelchair(chair, to_world),
+              "empty_wheelchair_" + std::to_string(i + 1), ids, Outfit{}, std::nullopt);
   }
   built.people.resize(draft.people.size());
   for (std::size_t k = 0; k < draft.people.size(); ++k)
