@@ -1,0 +1,154 @@
+#include "generate/frame_builder.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "core/error.h"
+
+namespace wheelpose::generate {
+namespace {
+
+using Eigen::Vector3f;
+
+const body::BodyData& body_data() {
+  static const body::BodyData data(std::filesystem::path(WHEELPOSE_SHARED_DIR) / "assets");
+  return data;
+}
+
+bool starts_with(const std::string& s, const std::string& prefix) {
+  return s.rfind(prefix, 0) == 0;
+}
+
+// Two seated people (the second with a cane and chosen chair colours), an empty chair and an
+// occluder in a room.
+FrameDraft room_draft() {
+  FrameDraft draft;
+  draft.index = 3;
+  draft.seed = 5;
+  draft.environment = EnvironmentKind::kRoom;
+  for (int k = 0; k < 2; ++k) {
+    PersonDraft p;
+    p.spec = body::sample_spec(20 + k);
+    p.spec.wheelchair = body::WheelchairType::kManual;
+    p.outfit.top.diffuse = Vector3f(0.9f, 0.1f, 0.1f);
+    p.position = Vector3f(k == 0 ? -1.0f : 1.0f, 0.0f, -4.0f);
+    p.rotation = Eigen::Quaternionf(Eigen::AngleAxisf(0.5f * k, Vector3f::UnitY()));
+    p.scale = k == 0 ? 1.0f : 0.9f;
+    draft.people.push_back(p);
+  }
+  draft.people[1].spec.mobility_aid = body::MobilityAidType::kCane;
+  draft.people[1].chair_colours = std::array<Vector3f, 4>{
+      Vector3f(0.1f, 0.2f, 0.3f), Vector3f(0.4f, 0.5f, 0.6f), Vector3f(0, 0, 0), Vector3f(1, 1, 1)};
+  draft.empty_chairs.push_back(
+      {body::WheelchairType::kSport, 9, Vector3f(0, 0, -6), Eigen::Quaternionf::Identity(), 1.0f});
+  ObjectDraft box;
+  box.position = Vector3f(2, 0, -5);
+  draft.objects.push_back(box);
+  return draft;
+}
+
+TEST(FrameBuilder, InstancesFollowTheIdSchemeAndPartsWearTheirMaterials) {
+  const std::vector<KeypointAnchor> anchors = resolve_anchors(load_keypoint_template("coco17"));
+  const BuiltFrame built = build_frame(room_draft(), body_data(), {}, anchors);
+  const scene::Scene& s = built.scene;
+  int person_parts = 0, aid_parts = 0;
+  for (const scene::Instance& inst : s.instances) {
+    const std::string& n = inst.name;
+    const scene::Material& m = s.materials[static_cast<std::size_t>(inst.material)];
+    EXPECT_EQ(m.name, n);
+    if (starts_with(n, "person_2_wheelchair_")) {
+      EXPECT_EQ(inst.instance_id, kChairIdBase + 2) << n;
+      EXPECT_EQ(inst.semantic_id, kSemanticWheelchair) << n;
+      if (n == "person_2_wheelchair_frame") {
+        EXPECT_EQ(m.diffuse, Vector3f(0.1f, 0.2f, 0.3f));
+      }
+    } else if (starts_with(n, "person_2_mobility_aid_")) {
+      ++aid_parts;
+      EXPECT_EQ(inst.instance_id, kAidIdBase + 2) << n;
+      EXPECT_EQ(inst.semantic_id, kSemanticMobilityAid) << n;
+    } else if (starts_with(n, "person_1_wheelchair_")) {
+      EXPECT_EQ(inst.instance_id, kChairIdBase + 1) << n;
+    } else if (starts_with(n, "person_")) {
+      ++person_parts;
+      EXPECT_EQ(inst.instance_id, n[7] == '1' ? 1 : 2) << n;
+      EXPECT_EQ(inst.semantic_id, kSemanticPerson) << n;
+      if (n == "person_1_top") {
+        EXPECT_EQ(m.diffuse, Vector3f(0.9f, 0.1f, 0.1f));
+      }
+    } else if (starts_with(n, "empty_wheelchair_1_")) {
+      EXPECT_EQ(inst.instance_id, kEmptyChairIdBase + 1) << n;
+      EXPECT_EQ(inst.semantic_id, kSemanticWheelchair) << n;
+    } else if (n == "object_1") {
+      EXPECT_EQ(inst.instance_id, kObjectIdBase + 1);
+      EXPECT_EQ(inst.semantic_id, kSemanticObject);
+    } else {
+      EXPECT_GT(inst.instance_id, kStructureIdBase) << n;
+      EXPECT_EQ(inst.semantic_id, kSemanticStructure) << n;
+    }
+  }
+  EXPECT_GE(person_parts, 4);  // at least skin and top for each person
+  EXPECT_GE(aid_parts, 1);
+  // Floor, ceiling and four walls.
+  EXPECT_EQ(
+      std::count_if(s.instances.begin(), s.instances.end(),
+                    [](const scene::Instance& i) { return i.semantic_id == kSemanticStructure; }),
+      6);
+}
+
+TEST(FrameBuilder, PeopleAreLabelledWhereTheyArePlacedWithTheirWheelsOnTheFloor) {
+  const std::vector<KeypointAnchor> anchors = resolve_anchors(load_keypoint_template("coco17"));
+  const FrameDraft draft = room_draft();
+  const BuiltFrame built = build_frame(draft, body_data(), {}, anchors);
+  ASSERT_EQ(built.people.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    const LabelPerson& label = built.people[k];
+    EXPECT_EQ(label.instance_id, k + 1);
+    ASSERT_EQ(label.keypoints.size(), 17u);
+    ASSERT_EQ(label.present.size(), 17u);
+    EXPECT_FLOAT_EQ(label.tolerance[0], anchors[0].tolerance_m * draft.people[k].scale);
+    // In a room the pelvis stands over `position` (x, z): the hips straddle it.
+    const Vector3f hips = 0.5f * (label.keypoints[11] + label.keypoints[12]);
+    const Vector3f off = hips - draft.people[k].position;
+    EXPECT_LT(std::hypot(off.x(), off.z()), 0.15f) << k;
+    EXPECT_EQ(label.attributes["motion_id"], "rest_seated");
+    EXPECT_EQ(label.attributes["wheelchair_type"], "manual");
+  }
+  EXPECT_EQ(built.people[1].attributes["mobility_aid"], "cane");
+  // The chair's wheels touch the floor (y = 0) at any scale.
+  int tyres = 0;
+  for (const scene::Instance& inst : built.scene.instances) {
+    if (!starts_with(inst.name, "person_2_wheelchair_tyre")) continue;
+    ++tyres;
+    float lowest = 1e9f;
+    for (const Vector3f& p : built.scene.meshes[static_cast<std::size_t>(inst.mesh)].positions) {
+      lowest = std::min(lowest, p.y());
+    }
+    EXPECT_NEAR(lowest, 0.0f, 0.005f);
+  }
+  EXPECT_EQ(tyres, 1);
+}
+
+TEST(FrameBuilder, RefusesTooManyPeopleAndUnknownAnchors) {
+  FrameDraft draft;
+  draft.index = 12;
+  draft.people.resize(kMaxPeoplePerFrame + 1);
+  try {
+    build_frame(draft, body_data(), {}, {});
+    FAIL() << "accepted 1000 people";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("frame 12"), std::string::npos) << e.what();
+  }
+  KeypointTemplate bad = load_keypoint_template("coco17");
+  bad.keypoints[3].anchor = "joint:left_antenna";
+  try {
+    resolve_anchors(bad);
+    FAIL() << "accepted an unknown anchor";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("joint:left_antenna"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace wheelpose::generate
