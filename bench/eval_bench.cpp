@@ -5,23 +5,24 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/coco_data.h"
 #include "core/keypoint_template.h"
 #include "core/random.h"
-#include "eval/coco_data.h"
 #include "eval/coco_eval.h"
 #include "eval/keypoint_metrics.h"
 
 namespace {
 
 using namespace wheelpose::eval;
+namespace coco = wheelpose::coco;
 using wheelpose::KeypointTemplate;
 using wheelpose::load_keypoint_template;
 
 constexpr int kImages = 5000, kPeople = 4, kDetections = 10;
 
 struct Synthetic {
-  CocoGroundTruth gt;
-  CocoResults dt;
+  coco::CocoGroundTruth gt;
+  coco::CocoResults dt;
 };
 
 const Synthetic& synthetic() {
@@ -32,9 +33,9 @@ const Synthetic& synthetic() {
     for (int i = 0; i < kImages; ++i) {
       s.gt.images.push_back({i + 1, "synthetic.jpg"});
       wheelpose::RandomStream rng(7, {"eval_bench", i});
-      std::vector<GtAnnotation> people;
+      std::vector<coco::GtAnnotation> people;
       for (int p = 0; p < kPeople; ++p) {
-        GtAnnotation g;
+        coco::GtAnnotation g;
         g.id = ann_id++;
         g.image_id = i + 1;
         g.category_id = 1;
@@ -51,12 +52,12 @@ const Synthetic& synthetic() {
         s.gt.annotations.push_back(std::move(g));
       }
       for (int d = 0; d < kDetections; ++d) {
-        Detection det;
+        coco::Detection det;
         det.id = static_cast<std::int64_t>(s.dt.detections.size()) + 1;
         det.image_id = i + 1;
         det.category_id = 1;
         det.score = rng.uniform01();
-        const GtAnnotation& near = people[d % kPeople];
+        const coco::GtAnnotation& near = people[d % kPeople];
         const double noise = d < kPeople ? 4.0 : 40.0;
         for (int k = 0; k < 17; ++k) {
           det.keypoints.push_back(near.keypoints[3 * k] + rng.normal(0, noise));
@@ -79,7 +80,7 @@ void BM_KeypointEval(benchmark::State& state) {
   const Synthetic& s = synthetic();
   const KeypointTemplate t = load_keypoint_template("coco17");
   for (auto _ : state) {
-    CocoEvaluator evaluator(s.gt, s.dt, IouType::kKeypoints, t);
+    CocoEvaluator evaluator(s.gt, s.dt, coco::IouType::kKeypoints, t);
     evaluator.evaluate();
     evaluator.accumulate();
     benchmark::DoNotOptimize(evaluator.summarize());
@@ -91,7 +92,7 @@ BENCHMARK(BM_KeypointEval)->Unit(benchmark::kMillisecond);
 void BM_BboxEval(benchmark::State& state) {
   const Synthetic& s = synthetic();
   const KeypointTemplate t = load_keypoint_template("coco17");
-  for (auto _ : state) benchmark::DoNotOptimize(run_coco_eval(s.gt, s.dt, IouType::kBbox, t));
+  for (auto _ : state) benchmark::DoNotOptimize(run_coco_eval(s.gt, s.dt, coco::IouType::kBbox, t));
 }
 BENCHMARK(BM_BboxEval)->Unit(benchmark::kMillisecond);
 
@@ -99,7 +100,7 @@ BENCHMARK(BM_BboxEval)->Unit(benchmark::kMillisecond);
 void BM_LoadResults(benchmark::State& state) {
   const Synthetic& s = synthetic();
   nlohmann::json results = nlohmann::json::array();
-  for (const Detection& d : s.dt.detections) {
+  for (const coco::Detection& d : s.dt.detections) {
     results.push_back({{"image_id", d.image_id},
                        {"category_id", 1},
                        {"score", d.score},
@@ -109,7 +110,7 @@ void BM_LoadResults(benchmark::State& state) {
   const std::string text = results.dump();
   for (auto _ : state) {
     benchmark::DoNotOptimize(
-        parse_coco_results(nlohmann::json::parse(text), "bench.json", s.gt, 17));
+        coco::parse_coco_results(nlohmann::json::parse(text), "bench.json", s.gt, 17));
   }
   state.counters["MB"] = static_cast<double>(text.size()) / 1e6;
 }

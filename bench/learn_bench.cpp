@@ -54,7 +54,7 @@ std::unique_ptr<PosePredictor> load(const std::string& name, int size) {
 }
 
 constexpr int kMultiposeSizes[] = {256, 384, 512, 640};
-const wheelpose::eval::Box kPersonBox = {440, 160, 400, 400};
+const wheelpose::coco::Box kPersonBox = {440, 160, 400, 400};
 
 void BM_Multipose(benchmark::State& state) {
   const auto predictor = load("movenet-multipose", static_cast<int>(state.range(0)));
@@ -74,7 +74,7 @@ BENCHMARK(BM_Multipose)
 void BM_SinglePerson(benchmark::State& state, const char* name) {
   const auto predictor = load(name, 256);
   const cv::Mat rgb = frame();
-  const std::vector<wheelpose::eval::Box> box = {kPersonBox};
+  const std::vector<wheelpose::coco::Box> box = {kPersonBox};
   for (auto _ : state) benchmark::DoNotOptimize(predictor->predict_boxes(rgb, box));
   state.SetItemsProcessed(state.iterations());
 }
@@ -118,10 +118,10 @@ void write_tfjs_inputs(const fs::path& dir) {
 void BM_TrainStep(benchmark::State& state) {
   const bool channels_last = state.range(0) != 0;
   const fs::path sample = fs::path(WHEELPOSE_SHARED_DIR) / "data" / "coco-sample";
-  const wheelpose::eval::CocoGroundTruth gt =
-      wheelpose::eval::load_coco_gt(sample / "person_keypoints_sample.json", 17, false);
+  const wheelpose::coco::CocoGroundTruth gt =
+      wheelpose::coco::load_coco_gt(sample / "person_keypoints_sample.json", 17, false);
   std::vector<wheelpose::learn::TrainPerson> people;  // those of the one image shipped
-  for (const wheelpose::eval::GtAnnotation& a : gt.annotations) {
+  for (const wheelpose::coco::GtAnnotation& a : gt.annotations) {
     if (a.image_id != 785 || a.iscrowd || a.keypoints.size() != 51) continue;
     wheelpose::learn::TrainPerson person;
     person.box = a.bbox;

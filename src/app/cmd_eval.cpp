@@ -10,9 +10,9 @@
 #include <string>
 
 #include "core/atomic_file.h"
+#include "core/coco_data.h"
 #include "core/error.h"
 #include "core/keypoint_template.h"
-#include "eval/coco_data.h"
 #include "eval/coco_eval.h"
 #include "eval/eval_report.h"
 #include "eval/eval_viz.h"
@@ -33,10 +33,10 @@ struct EvalOptions {
   std::string images;
 };
 
-eval::ResultReport evaluate_file(const std::string& path, const eval::CocoGroundTruth& gt,
+eval::ResultReport evaluate_file(const std::string& path, const coco::CocoGroundTruth& gt,
                                  const KeypointTemplate& t, bool keypoints, bool bbox,
-                                 std::unique_ptr<eval::CocoResults>& results) {
-  results = std::make_unique<eval::CocoResults>(eval::load_coco_results(path, gt, t.size()));
+                                 std::unique_ptr<coco::CocoResults>& results) {
+  results = std::make_unique<coco::CocoResults>(coco::load_coco_results(path, gt, t.size()));
   // pycocotools silently drops detections of categories absent from the GT; say so.
   std::size_t foreign = 0;
   for (const auto& d : results->detections) foreign += gt.category_position(d.category_id) < 0;
@@ -47,14 +47,14 @@ eval::ResultReport evaluate_file(const std::string& path, const eval::CocoGround
   eval::ResultReport report;
   report.results_path = path;
   if (keypoints) {
-    eval::require_fields(*results, eval::IouType::kKeypoints);
-    eval::CocoEvaluator evaluator(gt, *results, eval::IouType::kKeypoints, t);
+    coco::require_fields(*results, coco::IouType::kKeypoints);
+    eval::CocoEvaluator evaluator(gt, *results, coco::IouType::kKeypoints, t);
     evaluator.evaluate();
     evaluator.accumulate();
     report.keypoints = evaluator.summarize();
     report.keypoint_metrics = eval::compute_keypoint_metrics(evaluator, gt, *results, t);
   }
-  if (bbox) report.bbox = eval::run_coco_eval(gt, *results, eval::IouType::kBbox, t);
+  if (bbox) report.bbox = eval::run_coco_eval(gt, *results, coco::IouType::kBbox, t);
   return report;
 }
 
@@ -76,13 +76,13 @@ void run_eval(const EvalOptions& o) {
   const bool keypoints = o.type != "bbox";
   const bool bbox = o.type != "keypoints";
   const KeypointTemplate t = load_keypoint_template(o.keypoint_template);
-  const eval::CocoGroundTruth gt = eval::load_coco_gt(o.gt, t.size(), keypoints);
+  const coco::CocoGroundTruth gt = coco::load_coco_gt(o.gt, t.size(), keypoints);
   std::size_t orphans = 0;
   for (const auto& a : gt.annotations) orphans += gt.image_position(a.image_id) < 0;
   if (orphans > 0) {
     spdlog::warn("{}: {} annotation(s) refer to image ids not in 'images'; ignored", o.gt, orphans);
   }
-  std::unique_ptr<eval::CocoResults> ours_results, base_results;
+  std::unique_ptr<coco::CocoResults> ours_results, base_results;
   const eval::ResultReport ours = evaluate_file(o.dt, gt, t, keypoints, bbox, ours_results);
   std::optional<eval::ResultReport> base;
   if (!o.baseline.empty()) base = evaluate_file(o.baseline, gt, t, keypoints, bbox, base_results);

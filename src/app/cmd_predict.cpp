@@ -19,9 +19,9 @@
 
 #include "core/allocator.h"
 #include "core/atomic_file.h"
+#include "core/coco_data.h"
 #include "core/error.h"
 #include "core/keypoint_template.h"
-#include "eval/coco_data.h"
 #include "eval/eval_viz.h"
 #include "learn/model_files.h"
 #include "learn/pose_predictor.h"
@@ -51,7 +51,7 @@ struct PredictCommandOptions {
 struct ImageJob {
   std::int64_t id = 0;
   fs::path path;
-  std::vector<eval::Box> boxes;  // single-person models: the people to crop
+  std::vector<coco::Box> boxes;  // single-person models: the people to crop
 };
 
 bool is_image_file(const fs::path& p) {
@@ -64,13 +64,13 @@ bool is_image_file(const fs::path& p) {
 // The images to run: the COCO file's (ids from it) or every image file of the folder, sorted by
 // name, with ids 1, 2, … in that order.
 std::vector<ImageJob> list_images(const PredictCommandOptions& o,
-                                  const std::optional<eval::CocoGroundTruth>& gt) {
+                                  const std::optional<coco::CocoGroundTruth>& gt) {
   std::vector<ImageJob> jobs;
   const fs::path dir(o.images);
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) throw Error(o.images + ": --images is not a directory");
   if (gt) {
-    for (const eval::GtImage& image : gt->images)
+    for (const coco::GtImage& image : gt->images)
       jobs.push_back({image.id, dir / image.file_name, {}});
   } else {
     std::vector<fs::path> files;
@@ -92,17 +92,17 @@ std::vector<ImageJob> list_images(const PredictCommandOptions& o,
 
 // Single-person models: the boxes to crop, from a detections file (score ≥ 0.5) or the GT
 // person annotations (not crowds).
-void attach_boxes(const PredictCommandOptions& o, const std::optional<eval::CocoGroundTruth>& gt,
+void attach_boxes(const PredictCommandOptions& o, const std::optional<coco::CocoGroundTruth>& gt,
                   std::vector<ImageJob>& jobs) {
-  std::map<std::int64_t, std::vector<eval::Box>> boxes;
+  std::map<std::int64_t, std::vector<coco::Box>> boxes;
   if (!o.detections.empty()) {
     if (!gt) throw Error("--detections needs --coco (its image ids)");
-    const eval::CocoResults dets = eval::load_coco_results(o.detections, *gt, 17);
-    for (const eval::Detection& d : dets.detections) {
+    const coco::CocoResults dets = coco::load_coco_results(o.detections, *gt, 17);
+    for (const coco::Detection& d : dets.detections) {
       if (d.score >= 0.5) boxes[d.image_id].push_back(d.bbox);
     }
   } else if (gt) {
-    for (const eval::GtAnnotation& a : gt->annotations) {
+    for (const coco::GtAnnotation& a : gt->annotations) {
       if (!a.iscrowd) boxes[a.image_id].push_back(a.bbox);
     }
   } else {
@@ -130,8 +130,8 @@ void run_predict(const PredictCommandOptions& o) {
   if (!o.models.empty()) models_dir = fs::path(o.models);
   const learn::ModelChoice choice = learn::choose_model(o.model, models_dir);
   const fs::path& model = choice.topology;
-  std::optional<eval::CocoGroundTruth> gt;
-  if (!o.coco.empty()) gt = eval::load_coco_gt(o.coco, 17, false);
+  std::optional<coco::CocoGroundTruth> gt;
+  if (!o.coco.empty()) gt = coco::load_coco_gt(o.coco, 17, false);
   std::vector<ImageJob> jobs = list_images(o, gt);
   retain_large_blocks();  // multipose's per-image activations exceed 32 MiB at 512 px and above
   const learn::PosePredictor predictor(
@@ -162,7 +162,7 @@ void run_predict(const PredictCommandOptions& o) {
 
   if (!o.viz.empty()) {
     const KeypointTemplate t = load_keypoint_template("coco17");
-    const eval::CocoResults ours = eval::load_coco_results(o.out, *gt, t.size());
+    const coco::CocoResults ours = coco::load_coco_results(o.out, *gt, t.size());
     const auto written = eval::write_overlays(*gt, ours, nullptr, t,
                                               {.count = o.viz_count,
                                                .pick = o.viz_pick,

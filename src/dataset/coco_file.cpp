@@ -8,8 +8,8 @@
 #include <unordered_set>
 
 #include "core/atomic_file.h"
+#include "core/coco_data.h"
 #include "core/error.h"
-#include "eval/coco_data.h"
 
 namespace wheelpose::dataset {
 namespace {
@@ -406,7 +406,7 @@ class Validator {
 
 }  // namespace
 
-json load_json(const std::filesystem::path& path) { return eval::parse_json_file(path); }
+json load_json(const std::filesystem::path& path) { return coco::parse_json_file(path); }
 
 std::optional<std::int64_t> as_integer(const json& v) {
   if (v.is_number_integer()) return v.get<std::int64_t>();

@@ -20,25 +20,25 @@ std::vector<double> linspace(double start, double stop, int num) {
 }
 
 // np.argsort(-scores, kind='mergesort'): descending score, ties keep input order.
-void sort_by_score(std::vector<int>& order, const std::vector<Detection>& dets) {
+void sort_by_score(std::vector<int>& order, const std::vector<coco::Detection>& dets) {
   std::stable_sort(order.begin(), order.end(),
                    [&](int a, int b) { return -dets[a].score < -dets[b].score; });
 }
 
-bool gt_ignored(const GtAnnotation& g, IouType type) {
+bool gt_ignored(const coco::GtAnnotation& g, coco::IouType type) {
   // _prepare: ignore = iscrowd; keypoints also ignore num_keypoints == 0 (the field).
-  return g.iscrowd || (type == IouType::kKeypoints && g.num_keypoints == 0);
+  return g.iscrowd || (type == coco::IouType::kKeypoints && g.num_keypoints == 0);
 }
 
 }  // namespace
 
-EvalParams EvalParams::for_type(IouType type) {
+EvalParams EvalParams::for_type(coco::IouType type) {
   EvalParams p;
   p.type = type;
   p.iou_thresholds = linspace(0.5, 0.95, 10);
   p.recall_thresholds = linspace(0.0, 1.0, 101);
   const double big = 1e5 * 1e5;
-  if (type == IouType::kKeypoints) {
+  if (type == coco::IouType::kKeypoints) {
     p.max_dets = {20};
     p.area_ranges = {{0.0, big}, {32.0 * 32.0, 96.0 * 96.0}, {96.0 * 96.0, big}};
     p.area_labels = {"all", "medium", "large"};
@@ -51,8 +51,8 @@ EvalParams EvalParams::for_type(IouType type) {
   return p;
 }
 
-CocoEvaluator::CocoEvaluator(const CocoGroundTruth& gt, const CocoResults& dt, IouType type,
-                             const KeypointTemplate& keypoint_template)
+CocoEvaluator::CocoEvaluator(const coco::CocoGroundTruth& gt, const coco::CocoResults& dt,
+                             coco::IouType type, const KeypointTemplate& keypoint_template)
     : gt_(gt), dt_(dt), params_(EvalParams::for_type(type)), vars_(oks_vars(keypoint_template)) {}
 
 const ImageEval* CocoEvaluator::image_eval(int category, int area, int image) const {
@@ -67,7 +67,7 @@ void CocoEvaluator::evaluate() {
   const std::size_t num_images = gt_.images.size();
   const std::size_t num_cats = gt_.category_ids.size();
   const std::size_t num_areas = params_.area_ranges.size();
-  const IouType type = params_.type;
+  const coco::IouType type = params_.type;
   const int max_det = params_.max_dets.back();
   const std::size_t T = params_.iou_thresholds.size();
 
@@ -98,10 +98,10 @@ void CocoEvaluator::evaluate() {
       // ious[d][g] over the original GT order, as computeIoU / computeOks return them.
       ious.assign(D * G, 0.0);
       for (std::size_t di = 0; di < D; ++di) {
-        const Detection& det = dt_.detections[d[di]];
+        const coco::Detection& det = dt_.detections[d[di]];
         for (std::size_t gi = 0; gi < G; ++gi) {
-          const GtAnnotation& ann = gt_.annotations[g[gi]];
-          ious[di * G + gi] = type == IouType::kKeypoints
+          const coco::GtAnnotation& ann = gt_.annotations[g[gi]];
+          ious[di * G + gi] = type == coco::IouType::kKeypoints
                                   ? compute_oks(ann, det.keypoints, vars_)
                                   : bbox_iou(det.bbox, ann.bbox, ann.iscrowd);
         }
@@ -114,7 +114,7 @@ void CocoEvaluator::evaluate() {
         // Non-ignored GTs first (stable), as evaluateImg's mergesort on _ignore.
         std::vector<std::uint8_t> ignore_raw(G);
         for (std::size_t gi = 0; gi < G; ++gi) {
-          const GtAnnotation& ann = gt_.annotations[g[gi]];
+          const coco::GtAnnotation& ann = gt_.annotations[g[gi]];
           ignore_raw[gi] = gt_ignored(ann, type) || ann.area < lo || ann.area > hi;
         }
         std::vector<int> gt_order(G);
@@ -303,7 +303,7 @@ EvalSummary CocoEvaluator::summarize() const {
     int max_dets;
   };
   std::vector<Spec> specs;
-  if (params_.type == IouType::kKeypoints) {
+  if (params_.type == coco::IouType::kKeypoints) {
     specs = {{"AP", true, -1, "all", 20},      {"AP50", true, .5, "all", 20},
              {"AP75", true, .75, "all", 20},   {"APm", true, -1, "medium", 20},
              {"APl", true, -1, "large", 20},   {"AR", false, -1, "all", 20},
@@ -340,8 +340,8 @@ EvalSummary CocoEvaluator::summarize() const {
   return summary;
 }
 
-EvalSummary run_coco_eval(const CocoGroundTruth& gt, const CocoResults& dt, IouType type,
-                          const KeypointTemplate& keypoint_template) {
+EvalSummary run_coco_eval(const coco::CocoGroundTruth& gt, const coco::CocoResults& dt,
+                          coco::IouType type, const KeypointTemplate& keypoint_template) {
   CocoEvaluator evaluator(gt, dt, type, keypoint_template);
   evaluator.evaluate();
   evaluator.accumulate();

@@ -8,19 +8,19 @@
 #include <utility>
 #include <vector>
 
+#include "core/coco_data.h"
 #include "core/keypoint_template.h"
-#include "eval/coco_data.h"
 
 namespace wheelpose::eval {
 
 struct EvalParams {
-  IouType type = IouType::kKeypoints;
+  coco::IouType type = coco::IouType::kKeypoints;
   std::vector<double> iou_thresholds;     // np.linspace(.5, .95, 10)
   std::vector<double> recall_thresholds;  // np.linspace(0, 1, 101)
   std::vector<int> max_dets;              // [20] or [1, 10, 100]
   std::vector<std::pair<double, double>> area_ranges;
   std::vector<std::string> area_labels;
-  static EvalParams for_type(IouType type);
+  static EvalParams for_type(coco::IouType type);
 };
 
 // evaluateImg's result for one (category, area range, image); absent when neither GT nor
@@ -42,7 +42,7 @@ struct StatLine {
 };
 
 struct EvalSummary {
-  IouType type = IouType::kKeypoints;
+  coco::IouType type = coco::IouType::kKeypoints;
   std::vector<StatLine> stats;
   std::string text;  // exactly as pycocotools' summarize() prints it
 };
@@ -50,7 +50,7 @@ struct EvalSummary {
 class CocoEvaluator {
  public:
   // `keypoint_template` supplies the sigmas for keypoint OKS (ignored for boxes).
-  CocoEvaluator(const CocoGroundTruth& gt, const CocoResults& dt, IouType type,
+  CocoEvaluator(const coco::CocoGroundTruth& gt, const coco::CocoResults& dt, coco::IouType type,
                 const KeypointTemplate& keypoint_template);
 
   void evaluate();
@@ -67,8 +67,8 @@ class CocoEvaluator {
  private:
   double summarize_one(bool ap, double iou_threshold, const std::string& area, int max_dets) const;
 
-  const CocoGroundTruth& gt_;
-  const CocoResults& dt_;
+  const coco::CocoGroundTruth& gt_;
+  const coco::CocoResults& dt_;
   EvalParams params_;
   std::vector<double> vars_;
   std::vector<ImageEval> evals_;
@@ -78,7 +78,7 @@ class CocoEvaluator {
 };
 
 // Runs evaluate, accumulate and summarize.
-EvalSummary run_coco_eval(const CocoGroundTruth& gt, const CocoResults& dt, IouType type,
-                          const KeypointTemplate& keypoint_template);
+EvalSummary run_coco_eval(const coco::CocoGroundTruth& gt, const coco::CocoResults& dt,
+                          coco::IouType type, const KeypointTemplate& keypoint_template);
 
 }  // namespace wheelpose::eval

@@ -2,21 +2,21 @@
 
 #include <gtest/gtest.h>
 
+#include "core/coco_test_fixtures.h"
 #include "eval/oks_iou.h"
-#include "eval/test_fixtures.h"
 
 namespace wheelpose::eval {
 namespace {
 
-using fixtures::box_result;
-using fixtures::gt_file;
-using fixtures::gt_person;
-using fixtures::json;
-using fixtures::kp_result;
+using coco::fixtures::box_result;
+using coco::fixtures::gt_file;
+using coco::fixtures::gt_person;
+using coco::fixtures::json;
+using coco::fixtures::kp_result;
 
 struct EvalRun {
-  CocoGroundTruth gt;
-  CocoResults dt;
+  coco::CocoGroundTruth gt;
+  coco::CocoResults dt;
   EvalSummary summary;
   double stat(const std::string& key) const {
     for (const auto& s : summary.stats) {
@@ -27,18 +27,18 @@ struct EvalRun {
   }
 };
 
-EvalRun evaluate(const json& gt_json, const std::vector<json>& results, IouType type) {
+EvalRun evaluate(const json& gt_json, const std::vector<json>& results, coco::IouType type) {
   const KeypointTemplate coco = load_keypoint_template("coco17");
   EvalRun run;
-  run.gt = parse_coco_gt(gt_json, "gt.json", 17, type == IouType::kKeypoints);
-  run.dt = parse_coco_results(fixtures::json_list(results), "dt.json", run.gt, 17);
+  run.gt = coco::parse_coco_gt(gt_json, "gt.json", 17, type == coco::IouType::kKeypoints);
+  run.dt = coco::parse_coco_results(coco::fixtures::json_list(results), "dt.json", run.gt, 17);
   run.summary = run_coco_eval(run.gt, run.dt, type, coco);
   return run;
 }
 
 TEST(CocoEvalTest, PerfectKeypointDetectionScoresOne) {
   const EvalRun r = evaluate(gt_file({1}, {gt_person(7, 1, 100, 100, 10000)}),
-                             {kp_result(1, 100, 100, 0.9)}, IouType::kKeypoints);
+                             {kp_result(1, 100, 100, 0.9)}, coco::IouType::kKeypoints);
   EXPECT_DOUBLE_EQ(r.stat("AP"), 1.0);
   EXPECT_DOUBLE_EQ(r.stat("AP75"), 1.0);
   EXPECT_DOUBLE_EQ(r.stat("AR"), 1.0);
@@ -50,7 +50,7 @@ TEST(CocoEvalTest, PerfectKeypointDetectionScoresOne) {
 
 TEST(CocoEvalTest, SummaryTextMatchesPycocotoolsFormat) {
   const EvalRun r = evaluate(gt_file({1}, {gt_person(7, 1, 100, 100, 10000)}),
-                             {kp_result(1, 100, 100, 0.9)}, IouType::kKeypoints);
+                             {kp_result(1, 100, 100, 0.9)}, coco::IouType::kKeypoints);
   const std::string expected =
       " Average Precision  (AP) @[ IoU=0.50:0.95 | area=   all | maxDets= 20 ] = 1.000\n"
       " Average Precision  (AP) @[ IoU=0.50      | area=   all | maxDets= 20 ] = 1.000\n"
@@ -67,7 +67,7 @@ TEST(CocoEvalTest, SummaryTextMatchesPycocotoolsFormat) {
 
 TEST(CocoEvalTest, BboxSummaryHasTwelveStatsWithMaxDets) {
   const EvalRun r = evaluate(gt_file({1}, {gt_person(7, 1, 100, 100, 500)}),
-                             {box_result(1, 100, 100, 40, 80, 0.9)}, IouType::kBbox);
+                             {box_result(1, 100, 100, 40, 80, 0.9)}, coco::IouType::kBbox);
   ASSERT_EQ(r.summary.stats.size(), 12u);
   EXPECT_NE(r.summary.text.find(
                 " Average Recall     (AR) @[ IoU=0.50:0.95 | area= small | maxDets=100 ] = 1.000"),
@@ -81,11 +81,11 @@ TEST(CocoEvalTest, BboxSummaryHasTwelveStatsWithMaxDets) {
 TEST(CocoEvalTest, AreaBoundsAreInclusive) {
   // 96^2 lies in both medium and large; 32^2 in both small and medium (bbox).
   const EvalRun k = evaluate(gt_file({1}, {gt_person(7, 1, 100, 100, 96.0 * 96.0)}),
-                             {kp_result(1, 100, 100, 0.9)}, IouType::kKeypoints);
+                             {kp_result(1, 100, 100, 0.9)}, coco::IouType::kKeypoints);
   EXPECT_DOUBLE_EQ(k.stat("APm"), 1.0);
   EXPECT_DOUBLE_EQ(k.stat("APl"), 1.0);
   const EvalRun b = evaluate(gt_file({1}, {gt_person(7, 1, 100, 100, 32.0 * 32.0)}),
-                             {box_result(1, 100, 100, 40, 80, 0.9)}, IouType::kBbox);
+                             {box_result(1, 100, 100, 40, 80, 0.9)}, coco::IouType::kBbox);
   EXPECT_DOUBLE_EQ(b.stat("APs"), 1.0);
   EXPECT_DOUBLE_EQ(b.stat("APm"), 1.0);
   EXPECT_DOUBLE_EQ(b.stat("APl"), -1.0);
@@ -98,7 +98,7 @@ TEST(CocoEvalTest, OnlyTwentyKeypointDetectionsPerImageCount) {
     anns.push_back(gt_person(100 + i, 1, 100.0 * i, 100, 10000));
     dets.push_back(kp_result(1, 100.0 * i, 100, 1.0 - 0.01 * i));
   }
-  const EvalRun r = evaluate(gt_file({1}, anns), dets, IouType::kKeypoints);
+  const EvalRun r = evaluate(gt_file({1}, anns), dets, coco::IouType::kKeypoints);
   EXPECT_DOUBLE_EQ(r.stat("AR"), 20.0 / 21.0);
   // Precision 1 up to recall 20/21 = 0.952: recall thresholds 0.00..0.95 = 96 of 101.
   EXPECT_NEAR(r.stat("AP"), 96.0 / 101.0, 1e-12);
@@ -110,7 +110,7 @@ TEST(CocoEvalTest, BboxMaxDetsOneAndTen) {
     anns.push_back(gt_person(100 + i, 1, 100.0 * i, 100, 10000));
     dets.push_back(box_result(1, 100.0 * i, 100, 40, 80, 1.0 - 0.01 * i));
   }
-  const EvalRun r = evaluate(gt_file({1}, anns), dets, IouType::kBbox);
+  const EvalRun r = evaluate(gt_file({1}, anns), dets, coco::IouType::kBbox);
   EXPECT_DOUBLE_EQ(r.stat("AR1"), 1.0 / 12.0);
   EXPECT_DOUBLE_EQ(r.stat("AR10"), 10.0 / 12.0);
   EXPECT_DOUBLE_EQ(r.stat("AR100"), 1.0);
@@ -119,12 +119,12 @@ TEST(CocoEvalTest, BboxMaxDetsOneAndTen) {
 TEST(CocoEvalTest, ScoreTiesKeepFileOrder) {
   // One GT, two detections with equal score: one perfect, one far away (a false positive).
   const json gt = gt_file({1}, {gt_person(7, 1, 100, 100, 10000)});
-  const EvalRun tp_first =
-      evaluate(gt, {kp_result(1, 100, 100, 0.5), kp_result(1, 400, 100, 0.5)}, IouType::kKeypoints);
+  const EvalRun tp_first = evaluate(gt, {kp_result(1, 100, 100, 0.5), kp_result(1, 400, 100, 0.5)},
+                                    coco::IouType::kKeypoints);
   EXPECT_DOUBLE_EQ(tp_first.stat("AP"), 1.0);
   // FP first: precision [0, 0.5] -> interpolated 0.5 at every recall threshold.
-  const EvalRun fp_first =
-      evaluate(gt, {kp_result(1, 400, 100, 0.5), kp_result(1, 100, 100, 0.5)}, IouType::kKeypoints);
+  const EvalRun fp_first = evaluate(gt, {kp_result(1, 400, 100, 0.5), kp_result(1, 100, 100, 0.5)},
+                                    coco::IouType::kKeypoints);
   EXPECT_NEAR(fp_first.stat("AP"), 0.5, 1e-12);
 }
 
@@ -132,19 +132,19 @@ TEST(CocoEvalTest, AnnotationIdZeroCountsAsUnmatchedLikePycocotools) {
   // pycocotools stores the matched GT id in dtm and tests dtm != 0, so a match to GT id 0 is a
   // false positive while the GT still counts: AP = AR = 0.
   const EvalRun zero = evaluate(gt_file({1}, {gt_person(0, 1, 100, 100, 10000)}),
-                                {kp_result(1, 100, 100, 0.9)}, IouType::kKeypoints);
+                                {kp_result(1, 100, 100, 0.9)}, coco::IouType::kKeypoints);
   EXPECT_DOUBLE_EQ(zero.stat("AP"), 0.0);
   EXPECT_DOUBLE_EQ(zero.stat("AR"), 0.0);
   const EvalRun five = evaluate(gt_file({1}, {gt_person(5, 1, 100, 100, 10000)}),
-                                {kp_result(1, 100, 100, 0.9)}, IouType::kKeypoints);
+                                {kp_result(1, 100, 100, 0.9)}, coco::IouType::kKeypoints);
   EXPECT_DOUBLE_EQ(five.stat("AP"), 1.0);
 }
 
 TEST(CocoEvalTest, DetectionsOnImageWithoutGtAreFalsePositives) {
   // Image 2 has no GT; its higher-scored detection comes first: precision [0, 0.5].
-  const EvalRun r =
-      evaluate(gt_file({1, 2}, {gt_person(7, 1, 100, 100, 10000)}),
-               {kp_result(1, 100, 100, 0.5), kp_result(2, 100, 100, 0.9)}, IouType::kKeypoints);
+  const EvalRun r = evaluate(gt_file({1, 2}, {gt_person(7, 1, 100, 100, 10000)}),
+                             {kp_result(1, 100, 100, 0.5), kp_result(2, 100, 100, 0.9)},
+                             coco::IouType::kKeypoints);
   EXPECT_NEAR(r.stat("AP"), 0.5, 1e-12);
   EXPECT_DOUBLE_EQ(r.stat("AR"), 1.0);
 }
@@ -152,7 +152,7 @@ TEST(CocoEvalTest, DetectionsOnImageWithoutGtAreFalsePositives) {
 TEST(CocoEvalTest, GtImageWithoutDetectionsLowersRecall) {
   const EvalRun r = evaluate(
       gt_file({1, 2}, {gt_person(7, 1, 100, 100, 10000), gt_person(8, 2, 100, 100, 10000)}),
-      {kp_result(1, 100, 100, 0.9)}, IouType::kKeypoints);
+      {kp_result(1, 100, 100, 0.9)}, coco::IouType::kKeypoints);
   EXPECT_DOUBLE_EQ(r.stat("AR"), 0.5);
   EXPECT_NEAR(r.stat("AP"), 51.0 / 101.0, 1e-12);  // recall thresholds 0.00..0.50
 }
@@ -167,7 +167,7 @@ TEST(CocoEvalTest, CrowdGtAbsorbsBoxDetectionsWithoutPenalty) {
       evaluate(gt_file({1}, {gt_person(7, 1, 500, 100, 10000), crowd}),
                {box_result(1, 10, 10, 20, 20, 0.99), box_result(1, 50, 50, 20, 20, 0.98),
                 box_result(1, 500, 100, 40, 80, 0.5)},
-               IouType::kBbox);
+               coco::IouType::kBbox);
   EXPECT_DOUBLE_EQ(r.stat("AP"), 1.0);
   EXPECT_DOUBLE_EQ(r.stat("AR100"), 1.0);
 }
@@ -181,12 +181,12 @@ TEST(CocoEvalTest, CrowdAndZeroKeypointGtAreIgnoredForKeypoints) {
   const EvalRun r = evaluate(
       gt_file({1}, {gt_person(7, 1, 100, 100, 10000), crowd, unlabelled}),
       {kp_result(1, 300, 100, 0.99), kp_result(1, 600, 100, 0.98), kp_result(1, 100, 100, 0.5)},
-      IouType::kKeypoints);
+      coco::IouType::kKeypoints);
   EXPECT_DOUBLE_EQ(r.stat("AP"), 1.0);
   EXPECT_DOUBLE_EQ(r.stat("AR"), 1.0);
   // With only ignored GT, the category is empty: -1.
   const EvalRun empty =
-      evaluate(gt_file({1}, {crowd}), {kp_result(1, 300, 100, 0.9)}, IouType::kKeypoints);
+      evaluate(gt_file({1}, {crowd}), {kp_result(1, 300, 100, 0.9)}, coco::IouType::kKeypoints);
   EXPECT_DOUBLE_EQ(empty.stat("AP"), -1.0);
 }
 
@@ -199,14 +199,14 @@ TEST(CocoEvalTest, UnmatchedDetectionOutsideAreaRangeIsIgnored) {
     big["keypoints"][3 * i + 1] = 100.0 + 10.0 * i;
   }
   const EvalRun r = evaluate(gt_file({1}, {gt_person(7, 1, 100, 100, 2000)}),
-                             {big, kp_result(1, 100, 100, 0.5)}, IouType::kKeypoints);
+                             {big, kp_result(1, 100, 100, 0.5)}, coco::IouType::kKeypoints);
   EXPECT_NEAR(r.stat("AP"), 0.5, 1e-12);
   EXPECT_DOUBLE_EQ(r.stat("APm"), 1.0);
 }
 
 TEST(OksTest, LabelledKeypointsOnly) {
   const KeypointTemplate coco = load_keypoint_template("coco17");
-  GtAnnotation g;
+  coco::GtAnnotation g;
   g.area = 400;
   g.bbox = {0, 0, 20, 20};
   g.keypoints.assign(51, 0.0);
@@ -221,7 +221,7 @@ TEST(OksTest, LabelledKeypointsOnly) {
 
 TEST(OksTest, ZeroKeypointGtUsesDistanceToGrownBox) {
   const KeypointTemplate coco = load_keypoint_template("coco17");
-  GtAnnotation g;
+  coco::GtAnnotation g;
   g.area = 2500;
   g.bbox = {100, 100, 50, 50};  // grown box [50, 200] x [50, 200]
   g.keypoints.assign(51, 0.0);
@@ -233,10 +233,10 @@ TEST(OksTest, ZeroKeypointGtUsesDistanceToGrownBox) {
 }
 
 TEST(IouTest, CrowdUsesDetectionAreaAsUnion) {
-  const Box gt{0, 0, 10, 10}, dt{5, 0, 10, 10};
+  const coco::Box gt{0, 0, 10, 10}, dt{5, 0, 10, 10};
   EXPECT_DOUBLE_EQ(bbox_iou(dt, gt, false), 50.0 / 150.0);
   EXPECT_DOUBLE_EQ(bbox_iou(dt, gt, true), 50.0 / 100.0);
-  EXPECT_DOUBLE_EQ(bbox_iou(Box{20, 20, 5, 5}, gt, false), 0.0);
+  EXPECT_DOUBLE_EQ(bbox_iou(coco::Box{20, 20, 5, 5}, gt, false), 0.0);
 }
 
 TEST(NumpySumTest, PairwiseOrder) {
@@ -250,7 +250,7 @@ TEST(NumpySumTest, PairwiseOrder) {
 }
 
 TEST(ParamsTest, ThresholdsAsNumpyLinspace) {
-  const EvalParams p = EvalParams::for_type(IouType::kKeypoints);
+  const EvalParams p = EvalParams::for_type(coco::IouType::kKeypoints);
   ASSERT_EQ(p.iou_thresholds.size(), 10u);
   ASSERT_EQ(p.recall_thresholds.size(), 101u);
   EXPECT_EQ(p.iou_thresholds[5], 0.75);  // summarize() looks .75 up by exact equality

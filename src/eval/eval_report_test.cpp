@@ -4,9 +4,9 @@
 
 #include <cmath>
 
+#include "core/coco_test_fixtures.h"
 #include "core/keypoint_template.h"
 #include "eval/eval_viz.h"
-#include "eval/test_fixtures.h"
 
 namespace wheelpose::eval {
 namespace {
@@ -84,15 +84,15 @@ TEST(EvalVizTest, EvenlySpacedPicks) {
 // Image 1: one person found exactly (1.0). Image 2: one exact, one missed (0.5). Image 3: a
 // person the only detection misses by far (~0). Image 4: no people (no score, never ranked).
 TEST(EvalVizTest, ImagesRankedByHowWellTheirPeopleAreFound) {
-  using namespace fixtures;
-  const CocoGroundTruth gt = parse_coco_gt(
+  using namespace coco::fixtures;
+  const coco::CocoGroundTruth gt = coco::parse_coco_gt(
       gt_file({1, 2, 3, 4}, {gt_person(1, 1, 10, 10, 3200), gt_person(2, 2, 10, 10, 3200),
                              gt_person(3, 2, 200, 10, 3200), gt_person(4, 3, 10, 10, 3200)}),
       "gt", 17, true);
-  const CocoResults results =
-      parse_coco_results(json_list({kp_result(1, 10, 10, 0.9), kp_result(2, 10, 10, 0.9),
-                                    kp_result(3, 300, 300, 0.9), kp_result(4, 10, 10, 0.9)}),
-                         "dt", gt, 17);
+  const coco::CocoResults results =
+      coco::parse_coco_results(json_list({kp_result(1, 10, 10, 0.9), kp_result(2, 10, 10, 0.9),
+                                          kp_result(3, 300, 300, 0.9), kp_result(4, 10, 10, 0.9)}),
+                               "dt", gt, 17);
   const std::vector<double> scores =
       image_pose_scores(gt, results, load_keypoint_template("coco17"));
   ASSERT_EQ(scores.size(), 4u);

@@ -20,7 +20,7 @@ cv::Point point(const std::vector<double>& kp, int k) {
                    static_cast<int>(std::lround(kp[3 * k + 1])));
 }
 
-void draw_box(cv::Mat& image, const Box& b, const cv::Scalar& color) {
+void draw_box(cv::Mat& image, const coco::Box& b, const cv::Scalar& color) {
   cv::rectangle(image, cv::Point(static_cast<int>(b.x), static_cast<int>(b.y)),
                 cv::Point(static_cast<int>(b.x + b.w), static_cast<int>(b.y + b.h)), color, 1,
                 cv::LINE_AA);
@@ -42,9 +42,9 @@ void draw_pose(cv::Mat& image, const std::vector<double>& kp, const KeypointTemp
   }
 }
 
-void draw_detections(cv::Mat& image, const CocoResults& results, std::int64_t image_id,
+void draw_detections(cv::Mat& image, const coco::CocoResults& results, std::int64_t image_id,
                      const KeypointTemplate& t, const cv::Scalar& color, double min_score) {
-  for (const Detection& d : results.detections) {
+  for (const coco::Detection& d : results.detections) {
     if (d.image_id != image_id || d.score < min_score) continue;
     draw_box(image, d.bbox, color);
     draw_pose(
@@ -69,21 +69,21 @@ std::vector<int> evenly_spaced(int n, int count) {
   return out;
 }
 
-std::vector<double> image_pose_scores(const CocoGroundTruth& gt, const CocoResults& results,
-                                      const KeypointTemplate& t) {
+std::vector<double> image_pose_scores(const coco::CocoGroundTruth& gt,
+                                      const coco::CocoResults& results, const KeypointTemplate& t) {
   const std::vector<double> vars = oks_vars(t);
   std::vector<double> sum(gt.images.size(), 0.0);
   std::vector<int> people(gt.images.size(), 0);
-  std::vector<std::vector<const Detection*>> in_image(gt.images.size());
-  for (const Detection& d : results.detections) {
+  std::vector<std::vector<const coco::Detection*>> in_image(gt.images.size());
+  for (const coco::Detection& d : results.detections) {
     const int position = gt.image_position(d.image_id);
     if (position >= 0 && !d.keypoints.empty()) in_image[position].push_back(&d);
   }
-  for (const GtAnnotation& g : gt.annotations) {
+  for (const coco::GtAnnotation& g : gt.annotations) {
     const int position = gt.image_position(g.image_id);
     if (position < 0 || g.iscrowd || g.num_keypoints <= 0) continue;
     double best = 0;
-    for (const Detection* d : in_image[position]) {
+    for (const coco::Detection* d : in_image[position]) {
       best = std::max(best, compute_oks(g, d->keypoints, vars));
     }
     sum[position] += best;
@@ -108,9 +108,9 @@ std::vector<int> ranked_positions(const std::vector<double>& scores, int count, 
   return positions;
 }
 
-std::vector<std::filesystem::path> write_overlays(const CocoGroundTruth& gt,
-                                                  const CocoResults& ours,
-                                                  const CocoResults* baseline,
+std::vector<std::filesystem::path> write_overlays(const coco::CocoGroundTruth& gt,
+                                                  const coco::CocoResults& ours,
+                                                  const coco::CocoResults* baseline,
                                                   const KeypointTemplate& t,
                                                   const VizOptions& options) {
   std::vector<std::filesystem::path> written;
@@ -121,7 +121,7 @@ std::vector<std::filesystem::path> write_overlays(const CocoGroundTruth& gt,
           : ranked_positions(image_pose_scores(gt, ours, t), options.count, options.pick);
   for (std::size_t rank = 0; rank < positions.size(); ++rank) {
     const int position = positions[rank];
-    const GtImage& info = gt.images[position];
+    const coco::GtImage& info = gt.images[position];
     if (info.file_name.empty()) {
       throw Error(gt.source + ": image id " + std::to_string(info.id) +
                   " has no file_name to draw");
@@ -133,7 +133,7 @@ std::vector<std::filesystem::path> write_overlays(const CocoGroundTruth& gt,
     }
     cv::Mat image = cv::imread(source.string(), cv::IMREAD_COLOR);
     if (image.empty()) throw Error(source.string() + ": cannot decode image for --viz");
-    for (const GtAnnotation& g : gt.annotations) {
+    for (const coco::GtAnnotation& g : gt.annotations) {
       if (g.image_id != info.id) continue;
       draw_box(image, g.bbox, kWhite);
       if (g.keypoints.empty()) continue;

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "core/coco_data.h"
 #include "core/keypoint_template.h"
-#include "eval/coco_data.h"
 
 namespace wheelpose::eval {
 
@@ -29,9 +29,9 @@ struct VizOptions {
 };
 
 // Returns the written files. A missing or unreadable image throws Error naming it.
-std::vector<std::filesystem::path> write_overlays(const CocoGroundTruth& gt,
-                                                  const CocoResults& ours,
-                                                  const CocoResults* baseline,
+std::vector<std::filesystem::path> write_overlays(const coco::CocoGroundTruth& gt,
+                                                  const coco::CocoResults& ours,
+                                                  const coco::CocoResults* baseline,
                                                   const KeypointTemplate& keypoint_template,
                                                   const VizOptions& options);
 
@@ -41,7 +41,8 @@ std::vector<int> evenly_spaced(int n, int count);
 // Per GT image (by position): the mean over its non-crowd people with labelled keypoints of the
 // best OKS any detection in the image reaches (0 when none), so an image where every person is
 // found well scores near 1. NaN for an image without such people. Results need keypoints.
-std::vector<double> image_pose_scores(const CocoGroundTruth& gt, const CocoResults& results,
+std::vector<double> image_pose_scores(const coco::CocoGroundTruth& gt,
+                                      const coco::CocoResults& results,
                                       const KeypointTemplate& keypoint_template);
 
 // Up to `count` positions of images with a score, best (highest) or worst first; ties by position.

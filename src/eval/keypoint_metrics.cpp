@@ -39,8 +39,8 @@ KeypointStats finish(const std::string& name, const Sums& s) {
 }  // namespace
 
 std::vector<std::pair<int, int>> matched_pairs(const CocoEvaluator& evaluator,
-                                               const CocoGroundTruth& gt) {
-  if (evaluator.params().type != IouType::kKeypoints) {
+                                               const coco::CocoGroundTruth& gt) {
+  if (evaluator.params().type != coco::IouType::kKeypoints) {
     throw Error("internal: keypoint metrics need the keypoint evaluation", ErrorKind::kFailure);
   }
   std::vector<std::pair<int, int>> pairs;
@@ -60,15 +60,16 @@ std::vector<std::pair<int, int>> matched_pairs(const CocoEvaluator& evaluator,
   return pairs;
 }
 
-KeypointMetrics compute_keypoint_metrics(const CocoEvaluator& evaluator, const CocoGroundTruth& gt,
-                                         const CocoResults& dt,
+KeypointMetrics compute_keypoint_metrics(const CocoEvaluator& evaluator,
+                                         const coco::CocoGroundTruth& gt,
+                                         const coco::CocoResults& dt,
                                          const KeypointTemplate& keypoint_template) {
   const int K = keypoint_template.size();
   const std::vector<double> vars = oks_vars(keypoint_template);
   std::vector<Sums> per(K);
   KeypointMetrics m;
   for (const auto& [gi, di] : matched_pairs(evaluator, gt)) {
-    const GtAnnotation& g = gt.annotations[gi];
+    const coco::GtAnnotation& g = gt.annotations[gi];
     ++m.gt_people;
     if (di < 0) {
       ++m.missed_people;
@@ -76,7 +77,7 @@ KeypointMetrics compute_keypoint_metrics(const CocoEvaluator& evaluator, const C
       continue;
     }
     ++m.pairs;
-    const Detection& d = dt.detections[di];
+    const coco::Detection& d = dt.detections[di];
     const double diagonal = std::sqrt(g.bbox.w * g.bbox.w + g.bbox.h * g.bbox.h);
     for (int k = 0; k < K; ++k) {
       if (!(g.keypoints[3 * k + 2] > 0)) continue;

@@ -34,12 +34,13 @@ struct KeypointMetrics {
 };
 
 // `evaluator` must be a keypoint evaluator on which evaluate() has run.
-KeypointMetrics compute_keypoint_metrics(const CocoEvaluator& evaluator, const CocoGroundTruth& gt,
-                                         const CocoResults& dt,
+KeypointMetrics compute_keypoint_metrics(const CocoEvaluator& evaluator,
+                                         const coco::CocoGroundTruth& gt,
+                                         const coco::CocoResults& dt,
                                          const KeypointTemplate& keypoint_template);
 
 // Every non-ignored GT person as (annotation index, matched detection index or -1), by image.
 std::vector<std::pair<int, int>> matched_pairs(const CocoEvaluator& evaluator,
-                                               const CocoGroundTruth& gt);
+                                               const coco::CocoGroundTruth& gt);
 
 }  // namespace wheelpose::eval

@@ -2,17 +2,17 @@
 
 #include <gtest/gtest.h>
 
+#include "core/coco_test_fixtures.h"
 #include "core/error.h"
-#include "eval/test_fixtures.h"
 
 namespace wheelpose::eval {
 namespace {
 
-using fixtures::gt_file;
-using fixtures::gt_person;
-using fixtures::json;
-using fixtures::json_list;
-using fixtures::kp_result;
+using coco::fixtures::gt_file;
+using coco::fixtures::gt_person;
+using coco::fixtures::json;
+using coco::fixtures::json_list;
+using coco::fixtures::kp_result;
 
 class KeypointMetricsTest : public ::testing::Test {
  protected:
@@ -23,23 +23,24 @@ class KeypointMetricsTest : public ::testing::Test {
     json first = gt_person(7, 1, 100, 100, 10000);
     first["keypoints"][3 * 2 + 2] = 0;
     first["num_keypoints"] = 16;
-    gt_ = parse_coco_gt(gt_file({1, 2}, {first, gt_person(8, 2, 100, 100, 10000)}), "gt.json", 17,
-                        true);
+    gt_ = coco::parse_coco_gt(gt_file({1, 2}, {first, gt_person(8, 2, 100, 100, 10000)}), "gt.json",
+                              17, true);
     // The detection is exact except nose (3, 4) -> 5 px and left_eye (3, 0) -> 3 px; a second,
     // far detection in image 1 is a false positive and must not form a pair.
     json det = kp_result(1, 100, 100, 0.9);
     det["keypoints"][0] = 103.0;
     det["keypoints"][1] = 104.0;
     det["keypoints"][3] = 105.0;
-    dt_ = parse_coco_results(json_list({det, kp_result(1, 600, 100, 0.95)}), "dt.json", gt_, 17);
+    dt_ = coco::parse_coco_results(json_list({det, kp_result(1, 600, 100, 0.95)}), "dt.json", gt_,
+                                   17);
   }
   KeypointTemplate coco_;
-  CocoGroundTruth gt_;
-  CocoResults dt_;
+  coco::CocoGroundTruth gt_;
+  coco::CocoResults dt_;
 };
 
 TEST_F(KeypointMetricsTest, HandComputedPair) {
-  CocoEvaluator evaluator(gt_, dt_, IouType::kKeypoints, coco_);
+  CocoEvaluator evaluator(gt_, dt_, coco::IouType::kKeypoints, coco_);
   evaluator.evaluate();
   const KeypointMetrics m = compute_keypoint_metrics(evaluator, gt_, dt_, coco_);
   EXPECT_EQ(m.gt_people, 2);
@@ -83,7 +84,7 @@ TEST_F(KeypointMetricsTest, HandComputedPair) {
 }
 
 TEST_F(KeypointMetricsTest, PairsAreTheCocoMatchesOnly) {
-  CocoEvaluator evaluator(gt_, dt_, IouType::kKeypoints, coco_);
+  CocoEvaluator evaluator(gt_, dt_, coco::IouType::kKeypoints, coco_);
   evaluator.evaluate();
   const auto pairs = matched_pairs(evaluator, gt_);
   ASSERT_EQ(pairs.size(), 2u);

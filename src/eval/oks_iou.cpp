@@ -40,7 +40,7 @@ double oks_exponent(double dx, double dy, double var, double area) {
   return (dx * dx + dy * dy) / var / (area + kEps) / 2;
 }
 
-double compute_oks(const GtAnnotation& gt, std::span<const double> dt,
+double compute_oks(const coco::GtAnnotation& gt, std::span<const double> dt,
                    std::span<const double> vars) {
   const std::size_t k = vars.size();
   int k1 = 0;
@@ -68,7 +68,7 @@ double compute_oks(const GtAnnotation& gt, std::span<const double> dt,
   return numpy_sum(e, n) / static_cast<double>(n);
 }
 
-double bbox_iou(const Box& dt, const Box& gt, bool gt_is_crowd) {
+double bbox_iou(const coco::Box& dt, const coco::Box& gt, bool gt_is_crowd) {
   const double ga = gt.w * gt.h, da = dt.w * dt.h;
   const double w = std::min(dt.w + dt.x, gt.w + gt.x) - std::max(dt.x, gt.x);
   if (w <= 0) return 0.0;

@@ -6,8 +6,8 @@
 #include <span>
 #include <vector>
 
+#include "core/coco_data.h"
 #include "core/keypoint_template.h"
-#include "eval/coco_data.h"
 
 namespace wheelpose::eval {
 
@@ -23,10 +23,10 @@ double oks_exponent(double dx, double dy, double var, double area);
 
 // OKS of detection keypoints `dt` (x, y, score triples) against `gt`. A GT without labelled
 // keypoints measures distance to its box grown by its own size, averaged over all keypoints.
-double compute_oks(const GtAnnotation& gt, std::span<const double> dt,
+double compute_oks(const coco::GtAnnotation& gt, std::span<const double> dt,
                    std::span<const double> vars);
 
 // IoU of two [x, y, w, h] boxes; for a crowd GT the union is the detection's area.
-double bbox_iou(const Box& dt, const Box& gt, bool gt_is_crowd);
+double bbox_iou(const coco::Box& dt, const coco::Box& gt, bool gt_is_crowd);
 
 }  // namespace wheelpose::eval

@@ -31,7 +31,7 @@ cv::Point2d letterbox_to_image(const Letterbox& box, double y_fraction, double x
   return {x_fraction * box.input_w / box.scale, y_fraction * box.input_h / box.scale};
 }
 
-SquareCrop square_around(const eval::Box& box, double margin) {
+SquareCrop square_around(const coco::Box& box, double margin) {
   const double side = std::max({box.w, box.h, 1.0}) * margin;
   return {box.x + box.w / 2 - side / 2, box.y + box.h / 2 - side / 2, side};
 }

@@ -7,7 +7,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "eval/coco_data.h"
+#include "core/coco_data.h"
 
 namespace wheelpose::learn {
 
@@ -31,7 +31,7 @@ cv::Point2d letterbox_to_image(const Letterbox& box, double y_fraction, double x
 struct SquareCrop {
   double x0 = 0, y0 = 0, side = 1;
 };
-SquareCrop square_around(const eval::Box& box, double margin = 1.25);
+SquareCrop square_around(const coco::Box& box, double margin = 1.25);
 
 // The crop scaled to size × size (bilinear), black outside the image.
 cv::Mat crop_image(const cv::Mat& rgb, const SquareCrop& crop, int size);

@@ -125,10 +125,10 @@ std::vector<PosePrediction> PosePredictor::predict_image(const cv::Mat& rgb) con
 }
 
 std::vector<PosePrediction> PosePredictor::predict_boxes(
-    const cv::Mat& rgb, const std::vector<eval::Box>& boxes) const {
+    const cv::Mat& rgb, const std::vector<coco::Box>& boxes) const {
   WHEELPOSE_CHECK(!impl_->multi && rgb.type() == CV_8UC3);
   std::vector<PosePrediction> people;
-  for (const eval::Box& b : boxes) {
+  for (const coco::Box& b : boxes) {
     const SquareCrop crop = square_around(b);
     const torch::Tensor out = impl_->run(crop_image(rgb, crop, impl_->crop));
     const float* p = out.data_ptr<float>();

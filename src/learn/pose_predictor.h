@@ -15,14 +15,14 @@
 #include <optional>
 #include <vector>
 
-#include "eval/coco_data.h"
+#include "core/coco_data.h"
 
 namespace wheelpose::learn {
 
 struct PosePrediction {
   std::array<double, 51> keypoints{};  // x, y in pixels and the keypoint score, COCO-17 order
   double score = 0;                    // multipose: the person score; single: mean keypoint score
-  eval::Box bbox;                      // multipose: the model's box; single: the given box
+  coco::Box bbox;                      // multipose: the model's box; single: the given box
 };
 
 struct PredictOptions {
@@ -54,7 +54,7 @@ class PosePredictor {
   std::vector<PosePrediction> predict_image(const cv::Mat& rgb) const;
   // Single-person: one prediction per box.
   std::vector<PosePrediction> predict_boxes(const cv::Mat& rgb,
-                                            const std::vector<eval::Box>& boxes) const;
+                                            const std::vector<coco::Box>& boxes) const;
 
  private:
   struct Impl;

@@ -41,7 +41,7 @@ TrainSet load_train_set(const std::vector<TrainSource>& sources) {
   if (sources.empty()) throw Error("no training data: give --train COCO.json");
   TrainSet set;
   for (const TrainSource& source : sources) {
-    const eval::CocoGroundTruth gt = eval::load_coco_gt(source.coco, 17, false);
+    const coco::CocoGroundTruth gt = coco::load_coco_gt(source.coco, 17, false);
     const fs::path root = image_root(source.coco);
     std::vector<TrainImage> images(gt.images.size());
     for (std::size_t i = 0; i < gt.images.size(); ++i) {
@@ -56,7 +56,7 @@ TrainSet load_train_set(const std::vector<TrainSource>& sources) {
                     std::to_string(gt.images[i].id) + ") not found");
       }
     }
-    for (const eval::GtAnnotation& a : gt.annotations) {
+    for (const coco::GtAnnotation& a : gt.annotations) {
       const int position = gt.image_position(a.image_id);
       if (position < 0 || a.iscrowd || a.bbox.w <= 0 || a.bbox.h <= 0) continue;
       TrainPerson person;

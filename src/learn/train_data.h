@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "eval/coco_data.h"
+#include "core/coco_data.h"
 
 namespace wheelpose::learn {
 
@@ -23,7 +23,7 @@ struct TrainSource {
 TrainSource parse_train_source(const std::string& text);
 
 struct TrainPerson {
-  eval::Box box;                       // pixels
+  coco::Box box;                       // pixels
   std::array<double, 51> keypoints{};  // x, y, v (COCO-17); v = 0: not labelled
 };
 

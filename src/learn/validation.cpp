@@ -25,7 +25,7 @@ double stat(const eval::EvalSummary& summary, const std::string& key) {
 
 Validator::Validator(const fs::path& coco, int longer_side, int threads)
     : coco_(coco),
-      gt_(eval::load_coco_gt(coco, 17, false)),
+      gt_(coco::load_coco_gt(coco, 17, false)),
       longer_side_(longer_side),
       threads_(threads) {
   if (longer_side < 32 || longer_side % 32 != 0) {
@@ -34,7 +34,7 @@ Validator::Validator(const fs::path& coco, int longer_side, int threads)
   }
   if (gt_.images.empty()) throw Error(coco.string() + ": no images to validate on");
   const fs::path root = image_root(coco);
-  for (const eval::GtImage& image : gt_.images) {
+  for (const coco::GtImage& image : gt_.images) {
     files_.push_back(root / image.file_name);
     if (!fs::is_regular_file(files_.back())) {
       throw Error(coco.string() + ": image " + files_.back().string() + " (id " +
@@ -62,11 +62,11 @@ ValidationScores Validator::score(const fs::path& model_json,
   ValidationScores scores;
   scores.detections = static_cast<int>(results.size());
   if (results.empty()) return scores;
-  const eval::CocoResults dt = eval::parse_coco_results(results, "validation", gt_, 17);
+  const coco::CocoResults dt = coco::parse_coco_results(results, "validation", gt_, 17);
   const KeypointTemplate coco17 = load_keypoint_template("coco17");
   const eval::EvalSummary keypoints =
-      eval::run_coco_eval(gt_, dt, eval::IouType::kKeypoints, coco17);
-  const eval::EvalSummary boxes = eval::run_coco_eval(gt_, dt, eval::IouType::kBbox, coco17);
+      eval::run_coco_eval(gt_, dt, coco::IouType::kKeypoints, coco17);
+  const eval::EvalSummary boxes = eval::run_coco_eval(gt_, dt, coco::IouType::kBbox, coco17);
   scores.keypoint_ap = stat(keypoints, "AP");
   scores.keypoint_ap50 = stat(keypoints, "AP50");
   scores.keypoint_ar = stat(keypoints, "AR");

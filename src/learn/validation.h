@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "eval/coco_data.h"
+#include "core/coco_data.h"
 
 namespace wheelpose::learn {
 
@@ -34,7 +34,7 @@ class Validator {
 
  private:
   std::filesystem::path coco_;
-  eval::CocoGroundTruth gt_;
+  coco::CocoGroundTruth gt_;
   std::vector<std::filesystem::path> files_;  // by gt_.images
   int longer_side_;
   int threads_;

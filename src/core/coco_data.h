@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace wheelpose::eval {
+namespace wheelpose::coco {
 
 enum class IouType { kKeypoints, kBbox };
 
@@ -76,4 +76,4 @@ CocoResults load_coco_results(const std::filesystem::path& path, const CocoGroun
 // Throws Error naming the first detection that lacks what `type` needs.
 void require_fields(const CocoResults& results, IouType type);
 
-}  // namespace wheelpose::eval
+}  // namespace wheelpose::coco

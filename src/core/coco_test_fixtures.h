@@ -1,13 +1,13 @@
 #pragma once
-// Small COCO builders shared by the eval layer's tests.
+// Small COCO builders shared by the tests of the COCO reader and the eval layer.
 
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include "eval/coco_data.h"
+#include "core/coco_data.h"
 
-namespace wheelpose::eval::fixtures {
+namespace wheelpose::coco::fixtures {
 
 using nlohmann::json;
 
@@ -61,4 +61,4 @@ inline json box_result(long image_id, double x, double y, double w, double h, do
   return json{{"image_id", image_id}, {"category_id", 1}, {"score", score}, {"bbox", {x, y, w, h}}};
 }
 
-}  // namespace wheelpose::eval::fixtures
+}  // namespace wheelpose::coco::fixtures

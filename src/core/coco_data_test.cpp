@@ -1,13 +1,13 @@
-#include "eval/coco_data.h"
+#include "core/coco_data.h"
 
 #include <gtest/gtest.h>
 
 #include <functional>
 
+#include "core/coco_test_fixtures.h"
 #include "core/error.h"
-#include "eval/test_fixtures.h"
 
-namespace wheelpose::eval {
+namespace wheelpose::coco {
 namespace {
 
 using fixtures::gt_file;
@@ -117,4 +117,4 @@ TEST(CocoDataTest, RequireKeypointsNamesFirstMissingEntry) {
 }
 
 }  // namespace
-}  // namespace wheelpose::eval
+}  // namespace wheelpose::coco

@@ -1,4 +1,4 @@
-#include "eval/coco_data.h"
+#include "core/coco_data.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include "core/error.h"
 #include "core/parse_error.h"
 
-namespace wheelpose::eval {
+namespace wheelpose::coco {
 namespace {
 
 using nlohmann::json;
@@ -254,4 +254,4 @@ void require_fields(const CocoResults& results, IouType type) {
   }
 }
 
-}  // namespace wheelpose::eval
+}  // namespace wheelpose::coco
