@@ -11,18 +11,16 @@ using Eigen::Vector3f;
 // The outfit region around each rig bone; the numbering is the order regions are emitted.
 enum Region { kSkin = 0, kTop = 1, kBottom = 2, kShoes = 3 };
 
-bool starts_with(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
-
 Region region_of_bone(const std::string& bone, const DressCode& dress) {
-  if (starts_with(bone, "head") || starts_with(bone, "neck") || starts_with(bone, "hand") ||
-      starts_with(bone, "thumb") || starts_with(bone, "index") || starts_with(bone, "middle") ||
-      starts_with(bone, "ring") || starts_with(bone, "pinky")) {
+  if (bone.starts_with("head") || bone.starts_with("neck") || bone.starts_with("hand") ||
+      bone.starts_with("thumb") || bone.starts_with("index") || bone.starts_with("middle") ||
+      bone.starts_with("ring") || bone.starts_with("pinky")) {
     return kSkin;
   }
-  if (starts_with(bone, "lowerarm")) return dress.long_sleeves ? kTop : kSkin;
-  if (starts_with(bone, "calf")) return dress.long_trousers ? kBottom : kSkin;
-  if (starts_with(bone, "foot") || starts_with(bone, "ball")) return kShoes;
-  if (starts_with(bone, "pelvis") || starts_with(bone, "thigh")) return kBottom;
+  if (bone.starts_with("lowerarm")) return dress.long_sleeves ? kTop : kSkin;
+  if (bone.starts_with("calf")) return dress.long_trousers ? kBottom : kSkin;
+  if (bone.starts_with("foot") || bone.starts_with("ball")) return kShoes;
+  if (bone.starts_with("pelvis") || bone.starts_with("thigh")) return kBottom;
   return kTop;
 }
 
@@ -54,7 +52,7 @@ std::vector<Region> vertex_regions(const Person& person, const Rig& rig, const D
 }
 
 bool is_suit(const std::string& garment) {
-  return starts_with(garment, "clothes/male_") || starts_with(garment, "clothes/female_");
+  return garment.starts_with("clothes/male_") || garment.starts_with("clothes/female_");
 }
 
 // Cylindrical UVs around the rest body so procedural fabric wraps it.
@@ -118,8 +116,8 @@ void add_garments(const Person& person, const Eigen::Affine3f& to_world,
     for (const auto& t : g.triangles)
       part.triangles.emplace_back(static_cast<int>(t[0]), static_cast<int>(t[1]),
                                   static_cast<int>(t[2]));
-    const bool hair = starts_with(g.name, "hair/") || starts_with(g.name, "eyebrows/");
-    const bool eyes = starts_with(g.name, "eyes/");
+    const bool hair = g.name.starts_with("hair/") || g.name.starts_with("eyebrows/");
+    const bool eyes = g.name.starts_with("eyes/");
     const bool shoes = g.name.find("shoes") != std::string::npos;
     part.paint = eyes              ? Paint::kEyes
                  : hair            ? Paint::kHair

@@ -17,10 +17,6 @@ const body::BodyData& body_data() {
   return data;
 }
 
-bool starts_with(const std::string& s, const std::string& prefix) {
-  return s.rfind(prefix, 0) == 0;
-}
-
 // Two seated people (the second with a cane and chosen chair colours), an empty chair and an
 // occluder in a room.
 FrameDraft room_draft() {
@@ -58,26 +54,26 @@ TEST(FrameBuilder, InstancesFollowTheIdSchemeAndPartsWearTheirMaterials) {
     const std::string& n = inst.name;
     const scene::Material& m = s.materials[static_cast<std::size_t>(inst.material)];
     EXPECT_EQ(m.name, n);
-    if (starts_with(n, "person_2_wheelchair_")) {
+    if (n.starts_with("person_2_wheelchair_")) {
       EXPECT_EQ(inst.instance_id, kChairIdBase + 2) << n;
       EXPECT_EQ(inst.semantic_id, kSemanticWheelchair) << n;
       if (n == "person_2_wheelchair_frame") {
         EXPECT_EQ(m.diffuse, Vector3f(0.1f, 0.2f, 0.3f));
       }
-    } else if (starts_with(n, "person_2_mobility_aid_")) {
+    } else if (n.starts_with("person_2_mobility_aid_")) {
       ++aid_parts;
       EXPECT_EQ(inst.instance_id, kAidIdBase + 2) << n;
       EXPECT_EQ(inst.semantic_id, kSemanticMobilityAid) << n;
-    } else if (starts_with(n, "person_1_wheelchair_")) {
+    } else if (n.starts_with("person_1_wheelchair_")) {
       EXPECT_EQ(inst.instance_id, kChairIdBase + 1) << n;
-    } else if (starts_with(n, "person_")) {
+    } else if (n.starts_with("person_")) {
       ++person_parts;
       EXPECT_EQ(inst.instance_id, n[7] == '1' ? 1 : 2) << n;
       EXPECT_EQ(inst.semantic_id, kSemanticPerson) << n;
       if (n == "person_1_top") {
         EXPECT_EQ(m.diffuse, Vector3f(0.9f, 0.1f, 0.1f));
       }
-    } else if (starts_with(n, "empty_wheelchair_1_")) {
+    } else if (n.starts_with("empty_wheelchair_1_")) {
       EXPECT_EQ(inst.instance_id, kEmptyChairIdBase + 1) << n;
       EXPECT_EQ(inst.semantic_id, kSemanticWheelchair) << n;
     } else if (n == "object_1") {
@@ -119,7 +115,7 @@ TEST(FrameBuilder, PeopleAreLabelledWhereTheyArePlacedWithTheirWheelsOnTheFloor)
   // The chair's wheels touch the floor (y = 0) at any scale.
   int tyres = 0;
   for (const scene::Instance& inst : built.scene.instances) {
-    if (!starts_with(inst.name, "person_2_wheelchair_tyre")) continue;
+    if (!inst.name.starts_with("person_2_wheelchair_tyre")) continue;
     ++tyres;
     float lowest = 1e9f;
     for (const Vector3f& p : built.scene.meshes[static_cast<std::size_t>(inst.mesh)].positions) {

@@ -32,14 +32,6 @@ Tensor host_to_tensor(const HostTensor& h) {
 // How a constant is consumed: as a conv filter, a depthwise filter, a bias, or otherwise.
 enum class Role { kNone, kConvFilter, kDepthwiseFilter, kBias, kOther };
 
-bool is_conv(const std::string& op) { return op == "Conv2D" || op == "_FusedConv2D"; }
-bool is_depthwise(const std::string& op) {
-  return op == "DepthwiseConv2dNative" || op == "FusedDepthwiseConv2dNative";
-}
-bool is_fused(const std::string& op) {
-  return op == "_FusedConv2D" || op == "FusedDepthwiseConv2dNative";
-}
-
 Role role_of(const std::string& op, std::size_t input) {
   if (input == 1 && is_conv(op)) return Role::kConvFilter;
   if (input == 1 && is_depthwise(op)) return Role::kDepthwiseFilter;

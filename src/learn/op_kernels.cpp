@@ -17,10 +17,6 @@ using Builder = std::function<Kernel(KernelSite&)>;
 using UnaryFn = Tensor (*)(const Tensor&);
 using BinaryFn = Tensor (*)(const Tensor&, const Tensor&);
 
-bool is_fused(const std::string& op) {
-  return op == "_FusedConv2D" || op == "FusedDepthwiseConv2dNative";
-}
-
 // The fused bias and activation of _FusedConv2D / FusedDepthwiseConv2dNative into `spec`.
 void read_fused_ops(const NodeAttrs& a, ops::ConvSpec& spec) {
   const std::size_t args = static_cast<std::size_t>(a.i("num_args"));
@@ -389,6 +385,16 @@ Kernel build_kernel(KernelSite& site) {
   const auto found = builders().find(op);
   if (found == builders().end()) site.attrs.fail("unsupported op '" + op + "'");
   return found->second(site);
+}
+
+bool is_conv(const std::string& op) { return op == "Conv2D" || op == "_FusedConv2D"; }
+
+bool is_depthwise(const std::string& op) {
+  return op == "DepthwiseConv2dNative" || op == "FusedDepthwiseConv2dNative";
+}
+
+bool is_fused(const std::string& op) {
+  return op == "_FusedConv2D" || op == "FusedDepthwiseConv2dNative";
 }
 
 torch::ScalarType scalar_type(DType d) {

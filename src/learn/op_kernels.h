@@ -29,6 +29,11 @@ struct KernelSite {
 // kernel, or inputs and attributes it cannot take, throw Error naming the model file and node.
 Kernel build_kernel(KernelSite& site);
 
+// Which ops are convolutions: Conv2D and depthwise, each plain or with fused bias/activation.
+bool is_conv(const std::string& op);
+bool is_depthwise(const std::string& op);
+bool is_fused(const std::string& op);
+
 torch::ScalarType scalar_type(DType d);
 
 // "2×3×4", or "scalar".

@@ -6,13 +6,11 @@
 #include <chrono>
 #include <cmath>
 #include <deque>
-#include <fstream>
 #include <future>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <sstream>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
