@@ -408,4 +408,55 @@ TEST(CocoViz, DrawsOverlaysAndContactSheet) {
       << missing.output;
 }
 
+// A real-photo set's YOLO boxes scored as `eval --type bbox` scores them: the people of one class
+// found, the other class's boxes neither rewarded nor punished.
+TEST(CocoImportYolo, BoxesScoreWithEvalAndBadLabelsAreRefused) {
+  const fs::path dir = fresh_temp_dir("coco_import_yolo");
+  fs::create_directories(dir / "images");
+  fs::create_directories(dir / "labels");
+  cv::imwrite((dir / "images" / "p.jpg").string(), cv::Mat(100, 200, CV_8UC3, cv::Scalar(1, 2, 3)));
+  write(dir / "labels" / "p.txt", "1 0.5 0.5 0.2 0.4\n0 0.1 0.2 0.1 0.2\n");
+  const fs::path gt = dir / "gt.json";
+  const std::string base = "coco import-yolo --images " + (dir / "images").string() + " --labels " +
+                           (dir / "labels").string() + " --out " + gt.string();
+  auto r = run_wheelpose(base + " --classes 1=person,0=crowd");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(run_wheelpose("coco validate " + gt.string()).exit_code, 0);
+  // The person exactly (AP 1) and a detection on the crowd box (ignored, so AP stays 1).
+  write(dir / "dt.json",
+        R"([{"image_id": 1, "category_id": 1, "bbox": [80, 30, 40, 40], "score": 0.9},
+            {"image_id": 1, "category_id": 1, "bbox": [10, 10, 20, 20], "score": 0.95}])");
+  r = run_wheelpose("eval --type bbox --gt " + gt.string() + " --dt " + (dir / "dt.json").string() +
+                    " --out " + (dir / "eval").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json metrics = read_json(dir / "eval" / "metrics.json");
+  EXPECT_DOUBLE_EQ(metrics["results"]["bbox"]["stats"]["AP"].get<double>(), 1.0);
+
+  fs::remove(gt);
+  const std::string label = (dir / "labels" / "p.txt").string();
+  const struct {
+    std::string text, classes, says;
+  } cases[] = {
+      {"1 0.5 0.5 0.2\n", "1=person,0=crowd", label + ":1: expected 5 values"},
+      {"3 0.5 0.5 0.2 0.4\n", "1=person,0=crowd",
+       label + ":1: class 3 is not in the class mapping"},
+      {"1 0.5 1.2 0.2 0.4\n", "1=person", label + ":1: value 3 (1.2) is outside [0, 1]"},
+      {"1 0.5 0.5 0.2 0.4\n", "1=persons", "--classes: '1=persons' is not CLASS=ROLE"},
+  };
+  for (const auto& c : cases) {
+    write(dir / "labels" / "p.txt", c.text);
+    r = run_wheelpose(base + " --classes " + c.classes);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(c.says), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(gt));
+  }
+  write(dir / "labels" / "p.txt", "1 0.5 0.5 0.2 0.4\n");
+  write(dir / "labels" / "q.txt", "1 0.5 0.5 0.2 0.4\n");
+  r = run_wheelpose(base + " --classes 1=person");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find((dir / "labels" / "q.txt").string() + ": no image q."), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(gt));
+}
+
 }  // namespace

@@ -18,6 +18,7 @@
 #include "dataset/coco_tools.h"
 #include "dataset/coco_viz.h"
 #include "dataset/exporters.h"
+#include "dataset/yolo_import.h"
 
 namespace wheelpose::app {
 namespace {
@@ -39,6 +40,9 @@ struct CocoOptions {
   std::string group_by = "motion";
   std::string format = "yolo-pose";
   std::string keypoint_template = "coco17";
+  std::string labels;
+  std::string classes;
+  std::string description;
 };
 
 void run_validate(const CocoOptions& o) {
@@ -149,6 +153,19 @@ void run_viz(const CocoOptions& o) {
   spdlog::info("{}: {} images and contact_sheet.png", o.out, drawn);
 }
 
+void run_import_yolo(const CocoOptions& o) {
+  const dataset::YoloImportOptions options{.images_dir = o.images,
+                                           .labels_dir = o.labels,
+                                           .classes = dataset::parse_yolo_classes(o.classes),
+                                           .description = o.description};
+  const json root = dataset::import_yolo(options, load_keypoint_template(o.keypoint_template));
+  dataset::write_coco(o.out, root);
+  std::size_t people = 0;
+  for (const json& a : root["annotations"]) people += a["iscrowd"] == 0;
+  spdlog::info("{}: {} images, {} people, {} crowd regions", o.out, root["images"].size(), people,
+               root["annotations"].size() - people);
+}
+
 }  // namespace
 
 void attach_coco(CLI::App& parent) {
@@ -211,6 +228,20 @@ void attach_coco(CLI::App& parent) {
   o->n = 16;
   viz->add_option("--n", o->n, "Number of images (first by id; default 16)");
   viz->callback([o] { run_viz(*o); });
+
+  auto* yolo = coco->add_subcommand(
+      "import-yolo", "Read YOLO box (or pose) labels into a COCO file, mapping classes to roles");
+  yolo->add_option("--images", o->images, "Image directory")->required();
+  yolo->add_option("--labels", o->labels, "Label directory (<image stem>.txt; default --images)");
+  yolo->add_option("--classes", o->classes,
+                   "Each YOLO class's role: CLASS=person|crowd|drop, comma-separated (e.g. "
+                   "1=person,0=crowd); a class not listed is an error")
+      ->required();
+  yolo->add_option("--template", o->keypoint_template,
+                   "Keypoint template of the category (and of keypoints in the labels)");
+  yolo->add_option("--description", o->description, "info.description, e.g. the data's source");
+  yolo->add_option("--out", o->out, "Output COCO file")->required();
+  yolo->callback([o] { run_import_yolo(*o); });
 }
 
 }  // namespace wheelpose::app

@@ -134,4 +134,15 @@ KeypointTemplate load_keypoint_template(const std::string& name_or_path) {
   return parse_keypoint_template(read_file(name_or_path), name_or_path);
 }
 
+json coco_person_category(const KeypointTemplate& t) {
+  json names = json::array(), skeleton = json::array();
+  for (const auto& k : t.keypoints) names.push_back(k.name);
+  for (const auto& [a, b] : t.skeleton) skeleton.push_back({a + 1, b + 1});
+  return {{"id", 1},
+          {"name", "person"},
+          {"supercategory", "person"},
+          {"keypoints", std::move(names)},
+          {"skeleton", std::move(skeleton)}};
+}
+
 }  // namespace wheelpose

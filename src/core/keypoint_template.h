@@ -7,6 +7,7 @@
 // "groups": [{"name", "keypoints": [names]}]}. Unknown per-keypoint fields are allowed so other
 // tools can extend it.
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -49,5 +50,9 @@ KeypointTemplate load_keypoint_template(const std::string& name_or_path);
 // The texts of data/keypoints/coco17.json and coco17-raised-hips.json, compiled in.
 std::string_view builtin_coco17_json();
 std::string_view builtin_coco17_raised_hips_json();
+
+// The COCO category of people labelled with this template: id 1, "person", its keypoint names
+// and its skeleton (1-based), as every COCO file the toolkit writes carries it.
+nlohmann::json coco_person_category(const KeypointTemplate& t);
 
 }  // namespace wheelpose

@@ -46,17 +46,6 @@ ordered_json provenance(const Scenario& scenario, const RunOptions& options,
   return j;
 }
 
-json category(const KeypointTemplate& t) {
-  json names = json::array(), skeleton = json::array();
-  for (const auto& k : t.keypoints) names.push_back(k.name);
-  for (const auto& [a, b] : t.skeleton) skeleton.push_back({a + 1, b + 1});
-  return {{"id", 1},
-          {"name", "person"},
-          {"supercategory", "person"},
-          {"keypoints", std::move(names)},
-          {"skeleton", std::move(skeleton)}};
-}
-
 std::vector<std::uint8_t> encode_image(const cv::Mat& rgb, const std::string& format, int quality) {
   cv::Mat bgr;
   cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
@@ -244,8 +233,9 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
                {"seed", options.seed},
                {"frames", options.frames},
                {"scenario", "scenario.json"}};
-  std::tie(summary.images, summary.annotations) = assemble_annotations(
-      out, summary.first_frame, summary.end_frame, info, category(scenario.keypoint_template));
+  std::tie(summary.images, summary.annotations) =
+      assemble_annotations(out, summary.first_frame, summary.end_frame, info,
+                           coco_person_category(scenario.keypoint_template));
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }
