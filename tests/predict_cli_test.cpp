@@ -3,9 +3,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 
 #include "cli_runner.h"
@@ -58,6 +60,36 @@ TEST(PredictCli, AFolderWithoutACocoFileWorksForMultipose) {
   const json results = json::parse(read_text(dir / "out.json"));
   ASSERT_GE(results.size(), 1u);
   EXPECT_EQ(results[0]["image_id"], 1);
+}
+
+TEST(PredictCli, TheDefaultMergesTheSmallAndTheLargeInput) {
+  if (!have_models()) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
+  const auto dir = fresh_temp_dir("predict_scales");
+  const fs::path gt = wheelpose::testing::write_coco_sample_gt(dir, false);
+  auto run = [&](const std::string& size_args, const std::string& name) {
+    const fs::path out = dir / name;
+    const auto r = run_wheelpose("predict --coco " + gt.string() + " --images " +
+                                 sample_dir().string() + " --out " + out.string() + size_args);
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return json::parse(read_text(out));
+  };
+  const json small = run(" --size 256", "256.json"), large = run(" --size 640", "640.json");
+  const json merged = run("", "default.json");
+  EXPECT_EQ(merged, run(" --size 640,256", "reordered.json"));
+  // Every merged person is one of a single size's people, unchanged, and none is repeated.
+  ASSERT_GE(merged.size(), 1u);
+  std::set<std::string> seen;
+  for (const json& person : merged) {
+    const bool from_one = std::find(small.begin(), small.end(), person) != small.end() ||
+                          std::find(large.begin(), large.end(), person) != large.end();
+    EXPECT_TRUE(from_one) << person.dump();
+    EXPECT_TRUE(seen.insert(person.dump()).second);
+  }
+  EXPECT_LE(merged.size(), small.size() + large.size());
+  const auto r = run_wheelpose("predict --images " + sample_dir().string() + " --out " +
+                               (dir / "x.json").string() + " --size 256,256");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("different sizes"), std::string::npos) << r.output;
 }
 
 TEST(PredictCli, BadInputGivesOneLineAndNoResultsFile) {

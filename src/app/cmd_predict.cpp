@@ -1,6 +1,7 @@
 // `wheelpose predict`: a pretrained or fine-tuned MoveNet model run over a folder of images,
 // written as COCO results JSON that `wheelpose eval` reads for keypoints and boxes.
 
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
@@ -21,6 +22,7 @@
 #include "core/atomic_file.h"
 #include "core/coco_data.h"
 #include "core/error.h"
+#include "core/image_files.h"
 #include "core/keypoint_template.h"
 #include "eval/eval_viz.h"
 #include "learn/model_files.h"
@@ -40,7 +42,8 @@ struct PredictCommandOptions {
   std::string images;
   std::string detections;
   std::string out;
-  int size = 640;
+  std::vector<int> sizes = {256, 640};
+  double max_person_px = 192;
   double min_score = 0.05;
   int threads = 0;
   std::string viz;
@@ -54,13 +57,6 @@ struct ImageJob {
   std::vector<coco::Box> boxes;  // single-person models: the people to crop
 };
 
-bool is_image_file(const fs::path& p) {
-  std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
-  return ext == ".jpg" || ext == ".jpeg" || ext == ".png" || ext == ".bmp";
-}
-
 // The images to run: the COCO file's (ids from it) or every image file of the folder, sorted by
 // name, with ids 1, 2, … in that order.
 std::vector<ImageJob> list_images(const PredictCommandOptions& o,
@@ -73,11 +69,7 @@ std::vector<ImageJob> list_images(const PredictCommandOptions& o,
     for (const coco::GtImage& image : gt->images)
       jobs.push_back({image.id, dir / image.file_name, {}});
   } else {
-    std::vector<fs::path> files;
-    for (const auto& entry : fs::directory_iterator(dir)) {
-      if (entry.is_regular_file() && is_image_file(entry.path())) files.push_back(entry.path());
-    }
-    std::sort(files.begin(), files.end());
+    const std::vector<fs::path> files = image_files_in(dir);
     for (std::size_t i = 0; i < files.size(); ++i) {
       jobs.push_back({static_cast<std::int64_t>(i + 1), files[i], {}});
     }
@@ -122,8 +114,15 @@ cv::Mat read_rgb(const fs::path& path) {
 }
 
 void run_predict(const PredictCommandOptions& o) {
-  if (o.size < 32 || o.size % 32 != 0) {
-    throw Error("--size " + std::to_string(o.size) + ": must be a positive multiple of 32");
+  std::vector<int> sizes = o.sizes;
+  for (const int size : sizes) {
+    if (size < 32 || size % 32 != 0) {
+      throw Error("--size " + std::to_string(size) + ": must be a positive multiple of 32");
+    }
+  }
+  std::sort(sizes.begin(), sizes.end());
+  if (sizes.empty() || std::adjacent_find(sizes.begin(), sizes.end()) != sizes.end()) {
+    throw Error("--size: give one or more different sizes, e.g. 256,640");
   }
   if (!o.viz.empty() && o.coco.empty()) throw Error("--viz needs --coco (the overlays draw GT)");
   std::optional<fs::path> models_dir;
@@ -134,13 +133,16 @@ void run_predict(const PredictCommandOptions& o) {
   if (!o.coco.empty()) gt = coco::load_coco_gt(o.coco, 17, false);
   std::vector<ImageJob> jobs = list_images(o, gt);
   retain_large_blocks();  // multipose's per-image activations exceed 32 MiB at 512 px and above
-  const learn::PosePredictor predictor(
-      model, {.longer_side = o.size, .min_score = o.min_score, .threads = o.threads},
-      choice.weights);
+  const learn::PosePredictor predictor(model,
+                                       {.longer_sides = sizes,
+                                        .max_person_px = o.max_person_px,
+                                        .min_score = o.min_score,
+                                        .threads = o.threads},
+                                       choice.weights);
   if (!predictor.multi_person()) attach_boxes(o, gt, jobs);
   spdlog::info("predict: {} on {} images ({})", model.stem().string(), jobs.size(),
                predictor.multi_person()
-                   ? "whole images, longer side " + std::to_string(o.size)
+                   ? "whole images, longer side " + fmt::format("{}", fmt::join(sizes, " and "))
                    : std::to_string(predictor.crop_size()) + "² crops around person boxes");
 
   json results = json::array();
@@ -192,7 +194,16 @@ void attach_predict(CLI::App& parent) {
   cmd->add_option("--detections", options->detections,
                   "COCO results whose boxes (score >= 0.5) single-person models crop");
   cmd->add_option("--out", options->out, "COCO results JSON to write")->required();
-  cmd->add_option("--size", options->size, "Multipose input: the image's longer side (x32)")
+  cmd->add_option("--size", options->sizes,
+                  "Multipose input: the image's longer side (x32); several, comma-separated, run "
+                  "the image at each and merge the people (default 256,640: real photos' large "
+                  "people and our frames' small ones)")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--max-person-px", options->max_person_px,
+                  "Several sizes: people whose box is longer than this in a size's input are "
+                  "left to the smaller sizes")
+      ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->add_option("--min-score", options->min_score, "Multipose: drop people scoring less")
       ->check(CLI::Range(0.0, 1.0))

@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "learn/graph_module.h"
 #include "learn/letterbox.h"
+#include "learn/scale_merge.h"
 
 namespace wheelpose::learn {
 namespace {
@@ -80,6 +81,34 @@ struct PosePredictor::Impl {
     graph.eval();
   }
 
+  // The people of one letterboxed run, in image pixels, in the model's order.
+  std::vector<PosePrediction> decode_people(const cv::Mat& rgb, const Letterbox& box) {
+    const torch::Tensor out = run(letterbox_image(rgb, box));
+    const float* v = out.data_ptr<float>();
+    std::vector<PosePrediction> people;
+    for (int j = 0; j < kMultiPeople; ++j) {
+      const float* p = v + j * kMultiValues;
+      if (p[55] < options.min_score) continue;
+      PosePrediction person;
+      for (int k = 0; k < kKeypoints; ++k) {
+        const cv::Point2d at = letterbox_to_image(box, p[3 * k], p[3 * k + 1]);
+        person.keypoints[3 * k] = at.x;
+        person.keypoints[3 * k + 1] = at.y;
+        person.keypoints[3 * k + 2] = p[3 * k + 2];
+      }
+      const cv::Point2d lo = letterbox_to_image(box, p[51], p[52]);
+      const cv::Point2d hi = letterbox_to_image(box, p[53], p[54]);
+      const double x0 = std::clamp(lo.x, 0.0, static_cast<double>(rgb.cols));
+      const double y0 = std::clamp(lo.y, 0.0, static_cast<double>(rgb.rows));
+      const double x1 = std::clamp(hi.x, 0.0, static_cast<double>(rgb.cols));
+      const double y1 = std::clamp(hi.y, 0.0, static_cast<double>(rgb.rows));
+      person.bbox = {x0, y0, std::max(0.0, x1 - x0), std::max(0.0, y1 - y0)};
+      person.score = p[55];
+      people.push_back(person);
+    }
+    return people;
+  }
+
   torch::Tensor run(const cv::Mat& input) {
     torch::InferenceMode guard;
     return graph.forward(to_input(input)).at(output).to(torch::kFloat32).contiguous();
@@ -96,32 +125,14 @@ bool PosePredictor::multi_person() const { return impl_->multi; }
 int PosePredictor::crop_size() const { return impl_->crop; }
 
 std::vector<PosePrediction> PosePredictor::predict_image(const cv::Mat& rgb) const {
-  WHEELPOSE_CHECK(impl_->multi && rgb.type() == CV_8UC3);
-  const Letterbox box = plan_letterbox(rgb.cols, rgb.rows, impl_->options.longer_side);
-  const torch::Tensor out = impl_->run(letterbox_image(rgb, box));
-  const float* v = out.data_ptr<float>();
-  std::vector<PosePrediction> people;
-  for (int j = 0; j < kMultiPeople; ++j) {
-    const float* p = v + j * kMultiValues;
-    if (p[55] < impl_->options.min_score) continue;
-    PosePrediction person;
-    for (int k = 0; k < kKeypoints; ++k) {
-      const cv::Point2d at = letterbox_to_image(box, p[3 * k], p[3 * k + 1]);
-      person.keypoints[3 * k] = at.x;
-      person.keypoints[3 * k + 1] = at.y;
-      person.keypoints[3 * k + 2] = p[3 * k + 2];
-    }
-    const cv::Point2d lo = letterbox_to_image(box, p[51], p[52]);
-    const cv::Point2d hi = letterbox_to_image(box, p[53], p[54]);
-    const double x0 = std::clamp(lo.x, 0.0, static_cast<double>(rgb.cols));
-    const double y0 = std::clamp(lo.y, 0.0, static_cast<double>(rgb.rows));
-    const double x1 = std::clamp(hi.x, 0.0, static_cast<double>(rgb.cols));
-    const double y1 = std::clamp(hi.y, 0.0, static_cast<double>(rgb.rows));
-    person.bbox = {x0, y0, std::max(0.0, x1 - x0), std::max(0.0, y1 - y0)};
-    person.score = p[55];
-    people.push_back(person);
+  WHEELPOSE_CHECK(impl_->multi && rgb.type() == CV_8UC3 && !impl_->options.longer_sides.empty());
+  std::vector<ScaleResult> scales;
+  for (const int longer_side : impl_->options.longer_sides) {
+    const Letterbox box = plan_letterbox(rgb.cols, rgb.rows, longer_side);
+    scales.push_back({box.scale, impl_->decode_people(rgb, box)});
   }
-  return people;
+  if (scales.size() == 1) return scales[0].people;
+  return merge_scales(scales, {.max_person_px = impl_->options.max_person_px});
 }
 
 std::vector<PosePrediction> PosePredictor::predict_boxes(

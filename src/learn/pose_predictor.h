@@ -26,9 +26,13 @@ struct PosePrediction {
 };
 
 struct PredictOptions {
-  int longer_side = 640;    // multipose input: the image's longer side, a multiple of 32
-  double min_score = 0.05;  // multipose: people scoring less are dropped
-  int threads = 0;          // intra-op threads; 0 = every core
+  // Multipose inputs: the image's longer side, multiples of 32, smallest first. Several sizes
+  // run the image at each and merge the people (learn/scale_merge.h): 256 serves people who
+  // fill a photo, 640 the small people of wide frames; neither alone serves both.
+  std::vector<int> longer_sides = {256, 640};
+  double max_person_px = 192;  // several sizes: larger people are left to the smaller size
+  double min_score = 0.05;     // multipose: people scoring less are dropped
+  int threads = 0;             // intra-op threads; 0 = every core
 };
 
 // One COCO result entry (image_id, category 1, keypoints, score, bbox), rounded to 0.01 px and

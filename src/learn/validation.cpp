@@ -46,7 +46,7 @@ Validator::Validator(const fs::path& coco, int longer_side, int threads)
 ValidationScores Validator::score(const fs::path& model_json,
                                   const std::optional<fs::path>& weights) const {
   PredictOptions options;
-  options.longer_side = longer_side_;
+  options.longer_sides = {longer_side_};
   options.threads = threads_;
   const PosePredictor predictor(model_json, options, weights);
   nlohmann::json results = nlohmann::json::array();
