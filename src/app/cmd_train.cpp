@@ -27,7 +27,25 @@ struct TrainCommandOptions {
   learn::TrainOptions run;
   std::string out;
   std::string val;
+  std::string people_size;
 };
+
+// "MIN:MAX" in pixels.
+void parse_people_size(const std::string& text, learn::AugmentOptions& augment) {
+  const std::size_t colon = text.find(':');
+  try {
+    if (colon == std::string::npos) throw std::invalid_argument(text);
+    std::size_t used_min = 0, used_max = 0;
+    const std::string min_text = text.substr(0, colon), max_text = text.substr(colon + 1);
+    augment.person_size_min = std::stod(min_text, &used_min);
+    augment.person_size_max = std::stod(max_text, &used_max);
+    if (used_min != min_text.size() || used_max != max_text.size()) {
+      throw std::invalid_argument(text);
+    }
+  } catch (const std::exception&) {
+    throw Error("--people-size " + text + ": expected MIN:MAX in pixels, e.g. 30:256");
+  }
+}
 
 void run_train(TrainCommandOptions& c) {
   learn::TrainOptions o = c.run;
@@ -39,6 +57,7 @@ void run_train(TrainCommandOptions& c) {
   o.init_weights = choice.weights;
   o.out_dir = c.out;
   if (!c.val.empty()) o.val_coco = fs::path(c.val);
+  if (!c.people_size.empty()) parse_people_size(c.people_size, o.augment);
   retain_large_blocks();
   Progress progress("train", "steps");
   const learn::TrainResult result = learn::train(
@@ -103,6 +122,13 @@ void attach_train(CLI::App& parent) {
       ->capture_default_str();
   cmd->add_option("--people-scale", o.augment.target_longer_side,
                   "Show people at the scale predict --size N sees them")
+      ->capture_default_str();
+  cmd->add_option("--people-size", c->people_size,
+                  "MIN:MAX: show each trained person with its longer box side log-uniform in "
+                  "[MIN, MAX] input pixels, instead of at the --people-scale of its frame");
+  cmd->add_option("--pull-to-start", o.pull_to_start,
+                  "Each step, move every weight lr x this of the way back to its starting value "
+                  "(0: off)")
       ->capture_default_str();
   cmd->add_option("--loader-threads", o.loader_threads, "Batches prepared ahead in parallel")
       ->capture_default_str();

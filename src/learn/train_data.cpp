@@ -122,9 +122,15 @@ TrainSample augment(const cv::Mat& rgb, const std::vector<TrainPerson>& people,
   RandomStream random(random_seed, {"augment", key});
   const TrainPerson& anchor =
       people[static_cast<std::size_t>(random.uniform_int(0, std::ssize(people) - 1))];
-  const double base = static_cast<double>(o.target_longer_side) / std::max(rgb.cols, rgb.rows);
-  const double scale =
-      base * std::exp(random.uniform(std::log(o.scale_min), std::log(o.scale_max)));
+  double scale = 0;
+  if (o.person_size_max > 0) {
+    const double side = std::max({anchor.box.w, anchor.box.h, 1.0});
+    scale =
+        std::exp(random.uniform(std::log(o.person_size_min), std::log(o.person_size_max))) / side;
+  } else {
+    const double base = static_cast<double>(o.target_longer_side) / std::max(rgb.cols, rgb.rows);
+    scale = base * std::exp(random.uniform(std::log(o.scale_min), std::log(o.scale_max)));
+  }
   const double shift = o.input_size * o.shift_fraction / scale;
   const cv::Point2d centre(anchor.box.x + anchor.box.w / 2 + random.uniform(-shift, shift),
                            anchor.box.y + anchor.box.h / 2 + random.uniform(-shift, shift));

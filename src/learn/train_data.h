@@ -53,6 +53,10 @@ struct AugmentOptions {
   // `target_longer_side`, times a random factor in [scale_min, scale_max] (log-uniform).
   int target_longer_side = 640;
   double scale_min = 0.7, scale_max = 1.4;
+  // When person_size_max > 0: instead, the chosen person's longer box side in the input is
+  // log-uniform in [person_size_min, person_size_max] pixels, whatever the frame's scale — real
+  // photos show people from small to filling the frame, our frames mostly small.
+  double person_size_min = 0, person_size_max = 0;
   double shift_fraction = 0.25;  // the person's centre lands within ± this × input of the middle
   double rotate_degrees = 15;    // uniform in ±this
   double flip_probability = 0.5;

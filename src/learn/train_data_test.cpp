@@ -41,6 +41,31 @@ AugmentOptions geometry_only() {
   return o;
 }
 
+// --people-size: whatever the frame's scale, the person's longer box side in the input is drawn
+// log-uniformly from [min, max] — small and large people both appear.
+TEST(Augment, PeopleSizeSetsThePersonsSizeInTheInput) {
+  const DotScene scene;
+  AugmentOptions o = geometry_only();
+  o.input_size = 160;
+  o.shift_fraction = 0;
+  o.rotate_degrees = 0;
+  o.person_size_min = 30;
+  o.person_size_max = 150;
+  int small = 0, large = 0;
+  for (std::uint64_t key = 0; key < 40; ++key) {
+    const TrainSample s = augment(scene.rgb, {scene.person}, {}, o, 5, key);
+    ASSERT_EQ(s.people.size(), 1u);
+    const double side = std::max(s.people[0].box.w, s.people[0].box.h);
+    EXPECT_GE(side, 30 - 1e-9);
+    EXPECT_LE(side, 150 + 1e-9);
+    EXPECT_NEAR(s.people[0].box.w / s.people[0].box.h, 80.0 / 120.0, 1e-9);
+    small += side < 60;
+    large += side > 100;
+  }
+  EXPECT_GE(small, 5);
+  EXPECT_GE(large, 5);
+}
+
 // Without rotation a box keeps its exact size (scale 1 here) and stays centred on the person;
 // with rotation it grows only by the rotated inscribed ellipse (≤ 15°: at most w cos + h sin of
 // the ellipse's half-axes, under the rotated corners' w cos + h sin of the full box).

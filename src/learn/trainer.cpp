@@ -71,6 +71,11 @@ void check(const TrainOptions& o) {
     bad("--input-size must be a multiple of 32, at least 64");
   }
   if (o.loader_threads < 1) bad("--loader-threads must be at least 1");
+  const AugmentOptions& a = o.augment;
+  if (a.person_size_max > 0 && !(a.person_size_min > 0 && a.person_size_min <= a.person_size_max)) {
+    bad("--people-size MIN:MAX needs 0 < MIN <= MAX");
+  }
+  if (o.pull_to_start < 0) bad("--pull-to-start must not be negative");
   if (o.val_every < 1) bad("--val-every must be at least 1");
   if (o.world_size < 1) bad("--world-size must be at least 1");
   if (o.rank < 0 || o.rank >= o.world_size) bad("--rank must be in 0 … world size − 1");
@@ -218,6 +223,24 @@ int start_or_resume(const TrainOptions& o, bool writer, const std::string& key, 
 
 }  // namespace
 
+namespace {
+
+// --pull-to-start: each weight moves lr × group scale × strength of the way back to its start.
+void pull_toward(const ParameterGroups& groups, const std::vector<std::vector<Tensor>>& start,
+                 double lr, const std::vector<double>& group_scale, double strength) {
+  torch::NoGradGuard no_grad;
+  const std::vector<Tensor>* current[] = {&groups.heads, &groups.backbone};
+  for (std::size_t g = 0; g < start.size(); ++g) {
+    const double rate = std::min(1.0, lr * group_scale[g] * strength);
+    for (std::size_t i = 0; i < start[g].size(); ++i) {
+      Tensor p = (*current[g])[i];
+      p.sub_((p - start[g][i]) * rate);
+    }
+  }
+}
+
+}  // namespace
+
 std::string resume_key(const TrainOptions& o) {
   nlohmann::json sources = nlohmann::json::array();
   for (const TrainSource& s : o.train) sources.push_back({s.coco.string(), s.weight});
@@ -242,7 +265,11 @@ std::string resume_key(const TrainOptions& o) {
                                {a.input_size, a.target_longer_side, a.scale_min, a.scale_max,
                                 a.shift_fraction, a.rotate_degrees, a.flip_probability,
                                 a.color_jitter, a.blur_probability, a.jpeg_probability}}};
-  return key.dump();
+  // Options added later join the key only when used, so earlier runs still resume.
+  nlohmann::json extended = key;
+  if (a.person_size_max > 0) extended["people_size"] = {a.person_size_min, a.person_size_max};
+  if (o.pull_to_start > 0) extended["pull_to_start"] = o.pull_to_start;
+  return extended.dump();
 }
 
 TrainResult train(const TrainOptions& o, const std::function<void(const StepReport&)>& on_step,
@@ -271,6 +298,15 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
            groups.backbone, std::make_unique<torch::optim::AdamWOptions>(group_options))},
       group_options);
   const std::vector<double> group_scale = {1.0, o.backbone_lr_scale};
+  // The weights --pull-to-start pulls toward: the start, before any resume.
+  std::vector<std::vector<Tensor>> start_weights;
+  if (o.pull_to_start > 0) {
+    torch::NoGradGuard no_grad;
+    for (const auto* group : {&groups.heads, &groups.backbone}) {
+      start_weights.emplace_back();
+      for (const Tensor& p : *group) start_weights.back().push_back(p.detach().clone());
+    }
+  }
 
   ensure_directory(o.out_dir);
   const std::string key = resume_key(o);
@@ -302,6 +338,7 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
           .lr(lr * group_scale[g]);
     }
     StepReport report = optimizer_step(model, optimizer, batch, o.clip_norm, step + 1, average);
+    if (o.pull_to_start > 0) pull_toward(groups, start_weights, lr, group_scale, o.pull_to_start);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     report.step = step + 1;

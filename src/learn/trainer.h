@@ -31,6 +31,11 @@ struct TrainOptions {
   int freeze_backbone_steps = 0;    // train only the heads for the first N steps
   double backbone_lr_scale = 0.05;  // the backbone's learning rate relative to the heads'
   double clip_norm = 5.0;           // gradient L2 norm cap
+  // > 0: after every step each weight moves lr × pull_to_start of the way back to its starting
+  // value (AdamW's decoupled decay, aimed at the pretrained weights instead of zero), so the
+  // weights stay within about 1 / pull_to_start of where they began: what the pretrained model
+  // knows of real people is kept while it learns wheelchair users.
+  double pull_to_start = 0;
   int checkpoint_every = 100;
   int loader_threads = 1;  // batches prepared ahead, each on its own thread
   int threads = 0;         // torch intra-op threads; 0 = every core

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_file.h"
+#include "learn/graph_module.h"
 #include "learn/learn_test_support.h"
 
 namespace wheelpose::learn {
@@ -14,13 +15,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// With every augmentation off, each step sees the same crop of the COCO sample's skier, so the
-// heads (backbone frozen) must fit it: the loss falls well below where it started.
-TEST(Trainer, LossFallsOnAFixedSample) {
+// The COCO sample's skier alone, as a training set in `dir` (gt.json and its image).
+fs::path write_skier_set(const fs::path& dir) {
   const fs::path shared = fs::path(WHEELPOSE_SHARED_DIR) / "data" / "coco-sample";
-  const fs::path topology = fs::path(WHEELPOSE_SOURCE_DIR) / "models" / "movenet-multipose.json";
-  if (!fs::exists(topology)) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
-  const fs::path dir = fs::temp_directory_path() / "wheelpose_trainer_test";
   fs::remove_all(dir);
   fs::create_directories(dir);
   nlohmann::json gt = nlohmann::json::parse(read_file(shared / "person_keypoints_sample.json"));
@@ -35,9 +32,23 @@ TEST(Trainer, LossFallsOnAFixedSample) {
   gt["annotations"] = annotations;
   write_file_atomic(dir / "gt.json", gt.dump());
   fs::copy_file(shared / "000000000785.jpg", dir / "000000000785.jpg");
+  return dir / "gt.json";
+}
+
+fs::path multipose_topology() {
+  return fs::path(WHEELPOSE_SOURCE_DIR) / "models" / "movenet-multipose.json";
+}
+
+// With every augmentation off, each step sees the same crop of the COCO sample's skier, so the
+// heads (backbone frozen) must fit it: the loss falls well below where it started.
+TEST(Trainer, LossFallsOnAFixedSample) {
+  const fs::path topology = multipose_topology();
+  if (!fs::exists(topology)) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
+  const fs::path dir = fs::temp_directory_path() / "wheelpose_trainer_test";
+  const fs::path gt = write_skier_set(dir);
 
   TrainOptions o;
-  o.train = {{dir / "gt.json", 1}};
+  o.train = {{gt, 1}};
   o.model_json = topology;
   o.out_dir = dir / "run";
   o.steps = 12;
@@ -64,6 +75,42 @@ TEST(Trainer, LossFallsOnAFixedSample) {
   for (int i = 9; i < 12; ++i) last += r.steps[i].loss / 3;
   std::printf("[ NOTE ] loss %.3f -> %.3f\n", first, last);
   EXPECT_LT(last, 0.7 * first);
+  fs::remove_all(dir);
+}
+
+// --pull-to-start at full strength (lr × strength ≥ 1 in both groups) puts every weight back
+// at its start after each step, so last.pt holds the pretrained weights (to one rounding); off,
+// the same steps move them.
+TEST(Trainer, FullPullToStartKeepsThePretrainedWeights) {
+  const fs::path topology = multipose_topology();
+  if (!fs::exists(topology)) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
+  const fs::path dir = fs::temp_directory_path() / "wheelpose_trainer_pull_test";
+  const fs::path gt = write_skier_set(dir);
+  GraphModule pretrained(topology);
+  auto same_as_pretrained = [&](const fs::path& weights) {
+    GraphModule trained(topology);
+    trained.load(weights);
+    const auto a = pretrained.named_parameters(), b = trained.named_parameters();
+    bool same = a.size() == b.size();
+    // p − (p − start) is the start within one rounding.
+    for (const auto& p : a) same = same && torch::allclose(p.value(), b[p.key()], 1e-6, 1e-7);
+    return same;
+  };
+  for (const double pull : {0.0, 1e9}) {
+    TrainOptions o;
+    o.train = {{gt, 1}};
+    o.model_json = topology;
+    o.out_dir = dir / ("run-" + std::to_string(pull > 0));
+    o.steps = 2;
+    o.batch = 1;
+    o.learning_rate = 1e-3;
+    o.warmup_steps = 1;
+    o.threads = 2;
+    o.pull_to_start = pull;
+    o.augment.input_size = 128;
+    train(o);
+    EXPECT_EQ(same_as_pretrained(o.out_dir / "last.pt"), pull > 0) << "pull " << pull;
+  }
   fs::remove_all(dir);
 }
 
