@@ -8,28 +8,39 @@
 # OUT/report.md and OUT/report.html. Every step resumes: re-running after an interruption redoes
 # only what is missing.
 #
-# Both models are also scored on people without wheelchairs (a generated set of standing people,
-# configs/boost-standing.yaml, and, with --real, the user's own COCO person keypoints), to show
-# what fine-tuning costs on ordinary people.
+# Both models are also scored on a second held-out test set in a realistic scenario
+# (configs/boost-realistic.yaml: furnished rooms, eye-level cameras, people near and far), on
+# people without wheelchairs (a generated set of standing people, configs/boost-standing.yaml),
+# and, with --real, on real photos, to show what fine-tuning gains beyond our renders and costs on
+# ordinary people.
 #
-# usage: scripts/boost.sh [--quick] [--ablate] [--mix-standing] [--real COCO.json]
-#                         [--ranking RANKING.json] [OUT]
+# usage: scripts/boost.sh [--quick] [--recipe paper|transfer] [--ablate] [--mix-standing]
+#                         [--real COCO.json]... [--ranking RANKING.json] [OUT]
 #   OUT: the experiment's folder (default out/boost)
 #   --quick: a few frames and steps (a smoke test of the whole chain, minutes on 2 cores)
+#   --recipe: paper (default): train on the paper-preset training set at predict's scale;
+#     transfer: also the realistic scenario (configs/boost-realistic-train.yaml) and standing
+#     people mixed in, people shown at every size from 30 px to filling the input
+#     (train --people-size 30:256); PULL > 0 also pulls the weights toward the pretrained
+#     ones (train --pull-to-start PULL). README's "Real photos" has what each part gains
 #   --ablate: also the training-set size ablation (scripts/ablate.sh; hours at full size)
 #   --mix-standing: also a run with standing people mixed into training (scripts/standing-mix.sh)
-#   --real COCO.json: real people's keypoints (images in images/ beside it, or beside it)
+#   --real COCO.json: real people to score on, repeatable (images in images/ beside it, or beside
+#     it); keypoint and box AP, or box AP alone for box-only files (e.g. `coco import-yolo`)
 #   --ranking RANKING.json: train only on the training clips that `wheelpose review filter` kept
 #     (the review-filter ablation is a run with and a run without it, into two OUT folders)
-# Environment overrides: TRAIN_FRAMES, VAL_FRAMES, TEST_FRAMES, STANDING_FRAMES, STEPS, BATCH, LR,
-# FREEZE, VAL_EVERY, EXTRA_TRAIN_ARGS, ABLATION_SIZES, STANDING_TRAIN_FRAMES, STANDING_WEIGHT.
+# Environment overrides: TRAIN_FRAMES, VAL_FRAMES, TEST_FRAMES, REALISTIC_TEST_FRAMES,
+# STANDING_FRAMES, STEPS, BATCH, LR, FREEZE, VAL_EVERY, EXTRA_TRAIN_ARGS, ABLATION_SIZES,
+# STANDING_TRAIN_FRAMES, STANDING_WEIGHT; with --recipe transfer also REALISTIC_TRAIN_FRAMES,
+# RECIPE_STANDING_WEIGHT, PEOPLE_SIZE, PULL.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 wp="$root/build/release/wheelpose"
 quick=0
 ablate=0
 mix_standing=0
-real=""
+reals=()
+recipe=paper
 ranking=""
 out=out/boost
 while (($#)); do
@@ -39,7 +50,13 @@ while (($#)); do
     --mix-standing) mix_standing=1 ;;
     --real)
       [[ $# -ge 2 ]] || { echo "boost: --real needs a COCO file" >&2; exit 2; }
-      real=$2
+      reals+=("$2")
+      shift
+      ;;
+    --recipe)
+      [[ $# -ge 2 && ( $2 == paper || $2 == transfer ) ]] ||
+        { echo "boost: --recipe needs paper or transfer" >&2; exit 2; }
+      recipe=$2
       shift
       ;;
     --ranking)
@@ -47,31 +64,41 @@ while (($#)); do
       ranking=$2
       shift
       ;;
-    -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,37p' "$0"; exit 0 ;;
     -*) echo "boost: unknown option $1 (see --help)" >&2; exit 2 ;;
     *) out="$1" ;;
   esac
   shift
 done
-if [[ -n $real ]]; then
+declare -A real_names=()
+for real in "${reals[@]}"; do
   [[ -f $real ]] || { echo "boost: --real $real: no such file" >&2; exit 2; }
-  real_images="$(dirname "$real")/images"
-  [[ -d $real_images ]] || real_images="$(dirname "$real")"
-fi
+  name="real-$(basename "$real" .json)"
+  [[ -z ${real_names[$name]:-} ]] ||
+    { echo "boost: --real $real: a second file named $(basename "$real")" >&2; exit 2; }
+  real_names[$name]=$real
+done
 [[ -x "$wp" ]] || { echo "boost: $wp is missing: cmake --build --preset release" >&2; exit 1; }
 
 if ((quick)); then
   train_frames=${TRAIN_FRAMES:-24} val_frames=${VAL_FRAMES:-4} test_frames=${TEST_FRAMES:-8}
-  standing_frames=${STANDING_FRAMES:-4}
+  standing_frames=${STANDING_FRAMES:-4} realistic_test_frames=${REALISTIC_TEST_FRAMES:-4}
+  realistic_train_frames=${REALISTIC_TRAIN_FRAMES:-8} recipe_standing_frames=${STANDING_TRAIN_FRAMES:-4}
   steps=${STEPS:-16} batch=${BATCH:-4} val_every=${VAL_EVERY:-8} size_args="--input-size 128"
   export ABLATION_SIZES=${ABLATION_SIZES:-8 16} STANDING_TRAIN_FRAMES=${STANDING_TRAIN_FRAMES:-4}
 else
   train_frames=${TRAIN_FRAMES:-5000} val_frames=${VAL_FRAMES:-200} test_frames=${TEST_FRAMES:-500}
-  standing_frames=${STANDING_FRAMES:-300}
+  standing_frames=${STANDING_FRAMES:-300} realistic_test_frames=${REALISTIC_TEST_FRAMES:-300}
+  realistic_train_frames=${REALISTIC_TRAIN_FRAMES:-2500}
+  recipe_standing_frames=${STANDING_TRAIN_FRAMES:-1000}
   steps=${STEPS:-3000} batch=${BATCH:-16} val_every=${VAL_EVERY:-250} size_args=""
 fi
 lr=${LR:-1e-4}
 freeze=${FREEZE:-0}
+# The transfer recipe's own settings (README, "Real photos": chosen on the real dev set).
+people_size=${PEOPLE_SIZE:-30:256}
+pull=${PULL:-0}
+recipe_standing_weight=${RECIPE_STANDING_WEIGHT:-0.5}
 
 # The training clips: configs/boost-train-clips.json, or those of them a review ranking keeps.
 train_clips="$root/configs/boost-train-clips.json"
@@ -109,13 +136,27 @@ timed() {  # timed NAME command...: runs it, appends "NAME seconds" to OUT/times
 # wheelchair and forearm crutches are held out of training by content. The standing people play
 # the held-out clips too.
 declare -A clip_files=([train]="$train_clips" [test]="$root/configs/boost-test-clips.json")
-for set in train val test standing; do
+sets=(train val test test-realistic standing)
+[[ $recipe == transfer ]] && sets+=(train-realistic standing-train)
+for set in "${sets[@]}"; do
   frames=$train_frames seed=101 config=(--config "$root/configs/boost-train.yaml") clips=train
   if [[ $set == val ]]; then frames=$val_frames seed=303; fi
   if [[ $set == test ]]; then frames=$test_frames seed=202 config=() clips=test; fi
+  if [[ $set == test-realistic ]]; then
+    frames=$realistic_test_frames seed=606 config=(--config "$root/configs/boost-realistic.yaml")
+    clips=test
+  fi
   if [[ $set == standing ]]; then
     frames=$standing_frames seed=404 config=(--config "$root/configs/boost-standing.yaml")
     clips=test
+  fi
+  if [[ $set == train-realistic ]]; then
+    frames=$realistic_train_frames seed=707
+    config=(--config "$root/configs/boost-realistic-train.yaml")
+  fi
+  if [[ $set == standing-train ]]; then  # the set scripts/standing-mix.sh makes too
+    frames=$recipe_standing_frames seed=505
+    config=(--config "$root/configs/boost-standing-train.yaml")
   fi
   if [[ ! -f "$out/$set/annotations.json" ]]; then
     log "generating the $set set ($frames frames, seed $seed)"
@@ -130,7 +171,10 @@ done
 shared_clips=$(jq -n --slurpfile a "$out/train/annotations.json" \
   --slurpfile b "$out/test/annotations.json" \
   '([$a[0].annotations[].motion_id] | unique) - (([$a[0].annotations[].motion_id] | unique) - ([$b[0].annotations[].motion_id] | unique)) | length')
-train_held=$(jq '[.annotations[] | select(.wheelchair_type == "sport" or .mobility_aid == "crutches")] | length' "$out/train/annotations.json")
+train_sets=("$out/train/annotations.json")
+[[ $recipe == transfer ]] &&
+  train_sets+=("$out/train-realistic/annotations.json" "$out/standing-train/annotations.json")
+train_held=$(jq -s '[.[].annotations[] | select(.wheelchair_type == "sport" or .mobility_aid == "crutches")] | length' "${train_sets[@]}")
 if [[ $shared_clips != 0 || $train_held != 0 ]]; then
   echo "boost: the training set shares $shared_clips clip(s) with the test set and has $train_held sport-chair/crutches people" >&2
   exit 1
@@ -164,12 +208,25 @@ if [[ ! -f "$out/baseline.json" ]]; then
     --out "$out/baseline.json"
 fi
 
+train_sources=(--train "$out/train/annotations.json")
+recipe_args=()
+recipe_note="the paper-preset training set at predict's scale"
+if [[ $recipe == transfer ]]; then
+  train_sources+=(--train "$out/train-realistic/annotations.json"
+    --train "$out/standing-train/annotations.json:$recipe_standing_weight")
+  recipe_args=(--people-size "$people_size")
+  recipe_note="the transfer recipe: the paper-preset training set, $realistic_train_frames frames of the realistic scenario (seed 707) and $recipe_standing_frames of standing people (seed 505, weight $recipe_standing_weight), people $people_size px in the input"
+  if [[ $pull != 0 ]]; then
+    recipe_args+=(--pull-to-start "$pull")
+    recipe_note+=", weights pulled toward the pretrained ones (--pull-to-start $pull)"
+  fi
+fi
 if [[ ! -f "$out/run/last.pt" || ! -f "$out/run/done" ]]; then
   resume=""
   [[ -f "$out/run/checkpoint.pt" ]] && resume="--resume"
-  log "fine-tuning ($steps steps of $batch images)"
+  log "fine-tuning ($steps steps of $batch images, recipe $recipe)"
   # shellcheck disable=SC2086
-  timed train "$wp" train --train "$out/train/annotations.json" --out "$out/run" \
+  timed train "$wp" train "${train_sources[@]}" "${recipe_args[@]}" --out "$out/run" \
     --val "$out/val/annotations.json" --val-every "$val_every" \
     --steps "$steps" --batch "$batch" --lr "$lr" --freeze-backbone "$freeze" $size_args \
     ${EXTRA_TRAIN_ARGS:-} $resume
@@ -180,17 +237,26 @@ log "scoring the fine-tuned model (best.pt: step $(jq .step "$out/run/best.json"
 timed predict_finetuned "$wp" -q predict --model "$out/run/best.pt" --coco "$test_gt" \
   --images "$test_images" --out "$out/finetuned.json"
 # People without wheelchairs: the generated standing people and, with --real, the user's own.
+# Box-only ground truth (no labelled keypoint, e.g. `coco import-yolo` of real photos) is scored
+# for boxes alone.
+eval_type() { jq -e 'any(.annotations[]; (.num_keypoints // 0) > 0)' "$1" >/dev/null && echo both || echo bbox; }
 score_both() {  # score_both NAME GT IMAGES: OUT/NAME-{baseline,finetuned}.json and OUT/NAME-eval
   [[ -f "$out/$1-baseline.json" ]] || timed "predict_baseline_$1" "$wp" -q predict --coco "$2" \
     --images "$3" --out "$out/$1-baseline.json"
   timed "predict_finetuned_$1" "$wp" -q predict --model "$out/run/best.pt" --coco "$2" \
     --images "$3" --out "$out/$1-finetuned.json"
   "$wp" -q eval --gt "$2" --dt "$out/$1-finetuned.json" --baseline "$out/$1-baseline.json" \
-    --type both --out "$out/$1-eval" >/dev/null
+    --type "$(eval_type "$2")" --out "$out/$1-eval" >/dev/null
 }
-log "scoring both models on people without wheelchairs"
+log "scoring both models on the realistic test set and on people without wheelchairs"
+score_both test-realistic "$out/test-realistic/annotations.json" "$out/test-realistic/images"
 score_both standing "$out/standing/annotations.json" "$out/standing/images"
-if [[ -n $real ]]; then score_both real "$real" "$real_images"; fi
+for name in "${!real_names[@]}"; do
+  real=${real_names[$name]}
+  real_images="$(dirname "$real")/images"
+  [[ -d $real_images ]] || real_images="$(dirname "$real")"
+  score_both "$name" "$real" "$real_images"
+done
 if ((ablate)); then "$root/scripts/ablate.sh" "$out"; fi
 if ((mix_standing)); then "$root/scripts/standing-mix.sh" "$out"; fi
 
@@ -205,12 +271,13 @@ if ((mix_standing)); then "$root/scripts/standing-mix.sh" "$out"; fi
 table4() {  # table4 [EVAL_DIR (default OUT/eval)]
   jq -r '
     def p(x): if x == null or x < 0 then "n/a" else (x * 1000 | round / 10 | tostring) end;
+    def d(a; b): if a == null or b == null or a < 0 or b < 0 then "n/a" else ((a - b) * 1000 | round / 10 | tostring) end;
     def row(name; r): "| \(name) | \(p(r.keypoints.stats.AP)) | \(p(r.keypoints.stats.AP50)) | \(p(r.keypoints.stats.AP75)) | \(p(r.keypoints.stats.APm)) | \(p(r.keypoints.stats.APl)) | \(p(r.keypoints.stats.AR)) | \(p(r.bbox.stats.AP)) | \(p(r.bbox.stats.AP50)) | \(p(r.bbox.stats.APm)) | \(p(r.bbox.stats.APl)) |";
     "| Model | KP AP | KP AP50 | KP AP75 | KP APm | KP APl | KP AR | Box AP | Box AP50 | Box APm | Box APl |",
     "|---|---|---|---|---|---|---|---|---|---|---|",
     row("MoveNet MultiPose (pretrained)"; .baseline),
     row("fine-tuned on generated data"; .results),
-    "| change (points) | \((.results.keypoints.stats.AP - .baseline.keypoints.stats.AP) * 1000 | round / 10) | \((.results.keypoints.stats.AP50 - .baseline.keypoints.stats.AP50) * 1000 | round / 10) | \((.results.keypoints.stats.AP75 - .baseline.keypoints.stats.AP75) * 1000 | round / 10) | | | \((.results.keypoints.stats.AR - .baseline.keypoints.stats.AR) * 1000 | round / 10) | \((.results.bbox.stats.AP - .baseline.bbox.stats.AP) * 1000 | round / 10) | \((.results.bbox.stats.AP50 - .baseline.bbox.stats.AP50) * 1000 | round / 10) | | |"
+    "| change (points) | \(d(.results.keypoints.stats.AP; .baseline.keypoints.stats.AP)) | \(d(.results.keypoints.stats.AP50; .baseline.keypoints.stats.AP50)) | \(d(.results.keypoints.stats.AP75; .baseline.keypoints.stats.AP75)) | | | \(d(.results.keypoints.stats.AR; .baseline.keypoints.stats.AR)) | \(d(.results.bbox.stats.AP; .baseline.bbox.stats.AP)) | \(d(.results.bbox.stats.AP50; .baseline.bbox.stats.AP50)) | | |"
   ' "${1:-$out/eval}/metrics.json"
 }
 count() { jq "[.$2[]] | length" "$1"; }
@@ -225,13 +292,21 @@ last_loss=$(awk -F, 'NR>1 {n++; if (n > 0) v[n]=$3} END {s=0; k=0; for (i=n; i>n
   echo "preset, the 12 held-out clips). No clip is shared (checked on the labels); $test_held test"
   echo "people sit in the sport wheelchair or use forearm crutches, which training never drew;"
   echo "$assets_note. Model: MoveNet MultiPose, fine-tuned $steps steps ×"
-  echo "$batch images (lr $lr, backbone frozen for $freeze steps), scored at predict's default input."
+  echo "$batch images (lr $lr, backbone frozen for $freeze steps) on $recipe_note;"
+  echo "scored at predict's default input (256 and 640 merged)."
   echo
   echo "## Baseline vs fine-tuned on the test set ($test_frames frames, predict's default input)"
   echo
   table4
   echo
   cat "$out/eval/comparison.md"
+  echo
+  echo "## The realistic test set"
+  echo
+  echo "$realistic_test_frames frames (seed 606, configs/boost-realistic.yaml: furnished rooms,"
+  echo "eye-level cameras, 1–4 people near and far; the held-out clips, chairs and aids)."
+  echo
+  table4 "$out/test-realistic-eval"
   echo
   echo "## People without wheelchairs"
   echo
@@ -241,12 +316,15 @@ last_loss=$(awk -F, 'NR>1 {n++; if (n > 0) v[n]=$3} END {s=0; k=0; for (i=n; i>n
   echo "their upper body on straight legs)."
   echo
   table4 "$out/standing-eval"
-  if [[ -n $real ]]; then
+  for name in $(printf '%s\n' "${!real_names[@]}" | sort); do
+    real=${real_names[$name]}
     echo
-    echo "Real people: $(count "$real" images) images, $(count "$real" annotations) people of $real."
+    echo "Real people ($name): $(count "$real" images) images," \
+      "$(jq '[.annotations[] | select(.iscrowd == 0)] | length' "$real") people of $real" \
+      "($(jq -r '.info.description // "no description"' "$real"))."
     echo
-    table4 "$out/real-eval"
-  fi
+    table4 "$out/$name-eval"
+  done
   echo
   if [[ -f "$out/standing-mix.md" ]] && ((mix_standing)); then
     cat "$out/standing-mix.md"

@@ -1,7 +1,8 @@
 // The model-boosting experiment end to end at its --quick size: scripts/boost.sh generates a
 // training and a held-out test set, scores the pretrained model, fine-tunes it, scores it again
-// (validating and keeping the best weights), scores both on people without wheelchairs
-// (generated standing people and the real COCO sample), runs the training-set size ablation and
+// (validating and keeping the best weights) with the transfer recipe, scores both on the
+// realistic test set and on people without wheelchairs (generated standing people and the real
+// COCO sample, with keypoints and as boxes alone), runs the training-set size ablation and
 // the run with standing people mixed into training, and writes the report as Markdown and HTML.
 
 #include <gtest/gtest.h>
@@ -42,10 +43,20 @@ TEST(BoostScript, QuickRunWritesTheComparison) {
   const std::size_t kept = clips["kept"].size();
   const fs::path ranking = dir / "ranking.json";
   std::ofstream(ranking) << clips.dump();
+  // The same people as boxes alone (as `coco import-yolo` gives real photos): scored for boxes.
+  auto boxes = nlohmann::json::parse(read_text(real));
+  for (auto& a : boxes["annotations"]) {
+    a["keypoints"] = nlohmann::json::array();
+    for (int k = 0; k < 51; ++k) a["keypoints"].push_back(0);
+    a["num_keypoints"] = 0;
+  }
+  const fs::path real_boxes = dir / "real" / "boxes.json";
+  std::ofstream(real_boxes) << boxes.dump();
   const fs::path out = dir / "run";
-  const std::string command = "bash " + (source / "scripts" / "boost.sh").string() +
-                              " --quick --ablate --mix-standing --ranking " + ranking.string() +
-                              " --real " + real.string() + " " + out.string() + " > " +
+  const std::string command = "PULL=50 bash " + (source / "scripts" / "boost.sh").string() +
+                              " --quick --recipe transfer --ablate --mix-standing --ranking " +
+                              ranking.string() + " --real " + real.string() + " --real " +
+                              real_boxes.string() + " " + out.string() + " > " +
                               (dir / "log.txt").string() + " 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << read_text(dir / "log.txt");
   const std::string report = read_text(out / "report.md");
@@ -71,10 +82,27 @@ TEST(BoostScript, QuickRunWritesTheComparison) {
   EXPECT_TRUE(fs::exists(out / "finetuned.json"));
   // People without wheelchairs, generated and real, before and after.
   EXPECT_NE(report.find("## People without wheelchairs"), std::string::npos) << report;
-  EXPECT_NE(report.find("Real people: 1 images"), std::string::npos) << report;
-  for (const char* scored : {"standing-baseline.json", "standing-finetuned.json",
-                             "real-baseline.json", "real-finetuned.json"})
+  EXPECT_NE(report.find("Real people (real-gt): 1 images"), std::string::npos) << report;
+  EXPECT_NE(report.find("Real people (real-boxes): 1 images"), std::string::npos) << report;
+  for (const char* scored :
+       {"standing-baseline.json", "standing-finetuned.json", "real-gt-baseline.json",
+        "real-gt-finetuned.json", "real-boxes-baseline.json", "real-boxes-finetuned.json",
+        "test-realistic-baseline.json", "test-realistic-finetuned.json"})
     EXPECT_TRUE(fs::exists(out / scored)) << scored;
+  // Keypoints where the file has them, boxes alone where it has none.
+  const auto gt_metrics = nlohmann::json::parse(read_text(out / "real-gt-eval" / "metrics.json"));
+  const auto box_metrics =
+      nlohmann::json::parse(read_text(out / "real-boxes-eval" / "metrics.json"));
+  EXPECT_TRUE(gt_metrics["results"].contains("keypoints"));
+  EXPECT_FALSE(box_metrics["results"].contains("keypoints"));
+  EXPECT_EQ(gt_metrics["results"]["bbox"]["stats"], box_metrics["results"]["bbox"]["stats"]);
+  // The second held-out test set, and the transfer recipe's training.
+  EXPECT_NE(report.find("## The realistic test set"), std::string::npos) << report;
+  EXPECT_NE(report.find("the transfer recipe"), std::string::npos) << report;
+  const auto options = nlohmann::json::parse(read_text(out / "run" / "options.json"));
+  EXPECT_EQ(options["train"].size(), 3u);
+  EXPECT_EQ(options["people_size"], nlohmann::json::parse("[30.0, 256.0]"));
+  EXPECT_TRUE(options.contains("pull_to_start"));
   // The size ablation: a row per subset (quick sizes 8 and 16) and the full set (24).
   EXPECT_NE(report.find("## Ablation: training-set size"), std::string::npos) << report;
   for (const char* row : {"| 8 | ", "| 16 | ", "| 24 | "})

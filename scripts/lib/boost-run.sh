@@ -12,6 +12,13 @@ main_run_args() {
     --freeze-backbone "$(opt .freeze_backbone_steps)" --backbone-lr-scale "$(opt .backbone_lr_scale)"
     --clip "$(opt .clip_norm)" --input-size "$(opt '.augment[0]')" --seed "$(opt .seed)"
     --val "$(opt .val)" --val-every "$(opt .val_every)" --val-size "$(opt .val_size)")
+  # The transfer recipe's options (present only when the main run used them).
+  local people_size pull
+  people_size=$(opt '.people_size // empty | "\(.[0]):\(.[1])"')
+  pull=$(opt '.pull_to_start // empty')
+  [[ -n $people_size ]] && train_args+=(--people-size "$people_size")
+  [[ -n $pull ]] && train_args+=(--pull-to-start "$pull")
+  return 0
 }
 
 # ap_row LABEL GT DETECTIONS [EXTRA CELL]: "| LABEL | [EXTRA |] KP AP | KP AP50 | KP AR | Box AP |
