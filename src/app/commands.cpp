@@ -12,6 +12,7 @@ void attach_coco(CLI::App& parent);
 void attach_stats(CLI::App& parent);
 void attach_predict(CLI::App& parent);
 void attach_train(CLI::App& parent);
+void attach_model(CLI::App& parent);
 
 const std::vector<Command>& command_table() {
   static const std::vector<Command> table = {
@@ -25,6 +26,7 @@ const std::vector<Command>& command_table() {
       {"stats", attach_stats},
       {"predict", attach_predict},
       {"train", attach_train},
+      {"model", attach_model},
   };
   return table;
 }

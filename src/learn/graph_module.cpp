@@ -88,7 +88,8 @@ void GraphModule::compile() {
     throw Error(model_.topology_path.string() + ": the graph has " +
                 std::to_string(model_.inputs.size()) + " inputs; only single-input graphs run");
   }
-  const std::vector<bool> torch_layout = make_constants();
+  torch_layout_ = make_constants();
+  const std::vector<bool>& torch_layout = torch_layout_;
   const std::size_t count = model_.nodes.size();
   kernels_.assign(count, nullptr);
   output_counts_.assign(count, 1);
@@ -185,6 +186,21 @@ torch::Tensor GraphModule::parameter(const std::string& node_name) const {
                 "' is not a trainable parameter");
   }
   return named_parameters(/*recurse=*/false)[it->second];
+}
+
+torch::Tensor GraphModule::tf_value(const std::string& node_name) const {
+  const int n = model_.find_node(node_name);
+  if (n < 0 || model_.nodes[n].op != "Const") {
+    throw Error(model_.topology_path.string() + ": '" + node_name + "' is not a constant");
+  }
+  const Tensor value = constants_[n].detach();
+  if (!torch_layout_[n]) return value;
+  const std::vector<std::int64_t>& tf_shape = model_.nodes[n].value->shape;
+  // Conv2D [out, in, kh, kw] -> [kh, kw, in, out]; depthwise [in*m, 1, kh, kw] -> [kh, kw, in*m]
+  // -> [kh, kw, in, m]. Both layouts are told apart by the constant's TF shape.
+  const bool depthwise = value.size(1) == 1 && tf_shape[3] != value.size(0);
+  if (depthwise) return value.squeeze(1).permute({1, 2, 0}).reshape(tf_shape).contiguous();
+  return value.permute({2, 3, 1, 0}).contiguous();
 }
 
 void GraphModule::set_capture(std::vector<std::string> names) {

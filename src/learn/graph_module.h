@@ -66,6 +66,10 @@ class GraphModule : public torch::nn::Module {
   const std::vector<std::string>& parameter_nodes() const { return parameter_nodes_; }
   // Trainable parameter of graph node `node_name` (torch layout); throws Error if none.
   torch::Tensor parameter(const std::string& node_name) const;
+  // The current value of Const node `node_name` in TensorFlow's layout and shape (a trained
+  // filter back to [kh, kw, in, out] or [kh, kw, in, mult]), detached; throws Error if the
+  // node is not a Const.
+  torch::Tensor tf_value(const std::string& node_name) const;
 
   // Fine-tuned weights as a .pt (torch::pickle_save of a dict: format, version, model name,
   // parameters keyed by node name, torch layout), loadable by Python's torch.load. load()
@@ -96,6 +100,7 @@ class GraphModule : public torch::nn::Module {
   std::vector<Kernel> kernels_;           // per node
   std::vector<int> output_counts_;        // per node: how many outputs it produces
   std::vector<torch::Tensor> constants_;  // per node: Const values (params share storage)
+  std::vector<bool> torch_layout_;        // per node: a filter stored in torch's layout
   std::unordered_map<std::string, std::string> param_by_node_;  // node -> registered name
   std::vector<std::string> parameter_nodes_;
   std::vector<std::string> capture_;

@@ -460,7 +460,9 @@ std::string TfjsModel::where(int node) const {
          ")";
 }
 
-std::string TfjsModel::name() const { return topology_path.stem().string(); }
+std::string TfjsModel::name() const {
+  return base_model.empty() ? topology_path.stem().string() : base_model;
+}
 
 const std::vector<std::string>& supported_ops() {
   static const std::vector<std::string> ops = {
@@ -740,6 +742,13 @@ TfjsModel load_tfjs_model(const fs::path& json_path) {
   }
   if (const json* g = r.find(doc, "generatedBy")) {
     model.generated_by = g->is_string() ? g->get<std::string>() : g->dump();
+  }
+  if (const json* meta = r.find(doc, "userDefinedMetadata"); meta && meta->is_object()) {
+    if (const json* ours = r.find(*meta, "wheelpose"); ours && ours->is_object()) {
+      if (const json* base = r.find(*ours, "base_model")) {
+        model.base_model = r.string(*base, "userDefinedMetadata.wheelpose.base_model");
+      }
+    }
   }
   const json& topology = r.need(doc, "modelTopology", "modelTopology");
   const json& node_list = r.array(r.need(topology, "node", "modelTopology"), "modelTopology.node");

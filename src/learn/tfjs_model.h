@@ -82,6 +82,9 @@ struct TfjsModel {
   std::filesystem::path topology_path;  // the .json
   std::string format;                   // "graph-model"
   std::string generated_by;
+  // userDefinedMetadata.wheelpose.base_model of a model `wheelpose model export` wrote: the
+  // MoveNet model whose topology it shares, so weights trained from it stay loadable by name.
+  std::string base_model;
   std::vector<GraphNode> nodes;          // topological order: every input precedes its consumer
   std::vector<SignatureTensor> inputs;   // the Placeholders
   std::vector<SignatureTensor> outputs;  // signature outputs, else the unconsumed nodes
@@ -94,7 +97,8 @@ struct TfjsModel {
   std::string tensor_name(const TensorRef& ref) const;
   // "<file>: node '<name>' (<op>)", the prefix of errors about a node.
   std::string where(int node) const;
-  // The model's name: the topology file's stem, e.g. "movenet-lightning".
+  // The model's name: base_model when set, else the topology file's stem, e.g.
+  // "movenet-lightning". Weights files (.pt) record it; they load into any model of that name.
   std::string name() const;
 
   std::unordered_map<std::string, int> index;  // node name -> position in `nodes`

@@ -162,8 +162,8 @@ async function setupBackend(opts) {
 
 // ------------------------------------------------------------------ model ---
 
-function modelIOHandler(modelsDir, name) {
-  const jsonPath = path.join(modelsDir, `${name}.json`);
+function modelIOHandler(jsonPath) {
+  const modelsDir = path.dirname(jsonPath);
   return {
     load: async () => {
       const j = JSON.parse(readFileOrFail(jsonPath, 'model topology').toString('utf8'));
@@ -311,12 +311,16 @@ async function main() {
     if (!MODELS[e.model]) {
       throw new UserError(`manifest entry ${i}: unknown model '${e.model}' (known: ${Object.keys(MODELS).join(', ')})`);
     }
-    const topo = path.join(opts.models, `${e.model}.json`);
+    if (e.topology !== undefined && typeof e.topology !== 'string') {
+      throw new UserError(`manifest entry ${i}: "topology" must be a path string`);
+    }
+    // "topology": another model.json of the same kind (e.g. one `wheelpose model export` wrote).
+    const topo = e.topology ? path.join(manifestDir, e.topology) : path.join(opts.models, `${e.model}.json`);
     if (!fs.existsSync(topo)) throw new UserError(`model file '${topo}' not found`);
     const file = path.join(manifestDir, e.file);
     const img = loadPng(file);
     checkSize(e.model, e.file, img.h, img.w);
-    return { ...e, ...img };
+    return { ...e, ...img, topo };
   });
 
   const { tf, info } = await setupBackend(opts);
@@ -325,9 +329,9 @@ async function main() {
   const { loadGraphModel } = require('@tensorflow/tfjs-converter');
 
   const models = new Map();
-  const getModel = async (name) => {
-    if (!models.has(name)) {
-      const handler = modelIOHandler(opts.models, name);
+  const getModel = async (name, topoPath) => {
+    if (!models.has(topoPath)) {
+      const handler = modelIOHandler(topoPath);
       const model = await loadGraphModel(handler);
       const topo = model.artifacts.modelTopology;
       const opOf = new Map(topo.node.map((n) => [n.name, n.op]));
@@ -338,14 +342,14 @@ async function main() {
       // Final outputs by their tensor names ("Identity:0"), as the signature lists them.
       const sigOut = model.artifacts.signature && model.artifacts.signature.outputs;
       const outputNames = sigOut ? Object.values(sigOut).map((o) => o.name) : model.outputs.map((o) => o.name);
-      models.set(name, { model, heads, opOf, inputName: model.inputs[0].name, outputNames });
+      models.set(topoPath, { model, heads, opOf, inputName: model.inputs[0].name, outputNames });
     }
-    return models.get(name);
+    return models.get(topoPath);
   };
 
   const entries = [];
   for (const job of jobs) {
-    const m = await getModel(job.model);
+    const m = await getModel(job.model, job.topo);
     const input = tf.tensor4d(Int32Array.from(job.rgb), [1, job.h, job.w, 3], 'int32');
     const feed = { [m.inputName]: input };
     const extra = [...(opts.withHeads ? m.heads : []), ...opts.nodes];
@@ -379,6 +383,7 @@ async function main() {
     entries.push({
       file: job.file,
       model: job.model,
+      ...(job.topology ? { topology: job.topology } : {}),
       input_shape: [1, job.h, job.w, 3],
       input_sha256: sha,
       head_nodes: m.heads,
