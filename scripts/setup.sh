@@ -51,6 +51,14 @@ if [ ! -d "$blender_tests/node_modules/fbx2gltf" ] ||
   (cd "$blender_tests" && npm ci --no-audit --no-fund)
 fi
 
+# The demo page (`wheelpose demo`) serves TF.js to the browser from web/demo/node_modules,
+# pinned by web/demo/package-lock.json: nothing is loaded from the internet at run time.
+demo_web="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/web/demo"
+if [ ! -d "$demo_web/node_modules/@tensorflow/tfjs-converter" ]; then
+  echo "setup: npm ci in web/demo"
+  (cd "$demo_web" && npm ci --no-audit --no-fund)
+fi
+
 # The TF.js reference (tests/tfjs_reference: regenerates the MoveNet fixture and times TF.js
 # beside our inference) runs @tensorflow/tfjs in node, pinned by its package-lock.json.
 tfjs_reference="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/tests/tfjs_reference"

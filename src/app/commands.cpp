@@ -13,6 +13,7 @@ void attach_stats(CLI::App& parent);
 void attach_predict(CLI::App& parent);
 void attach_train(CLI::App& parent);
 void attach_model(CLI::App& parent);
+void attach_demo(CLI::App& parent);
 
 const std::vector<Command>& command_table() {
   static const std::vector<Command> table = {
@@ -27,6 +28,7 @@ const std::vector<Command>& command_table() {
       {"predict", attach_predict},
       {"train", attach_train},
       {"model", attach_model},
+      {"demo", attach_demo},
   };
   return table;
 }

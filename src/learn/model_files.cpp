@@ -29,6 +29,18 @@ const std::vector<std::string>& known_model_names() {
   return names;
 }
 
+const std::vector<std::string>& shipped_model_names() {
+  static const std::vector<std::string> names = {"movenet-wheelchair"};
+  return names;
+}
+
+fs::path shipped_models_dir() {
+  if (const char* env = std::getenv("WHEELPOSE_SHIPPED_MODELS"); env != nullptr && *env != '\0') {
+    return env;
+  }
+  return fs::path(WHEELPOSE_SOURCE_DIR) / "share" / "models";
+}
+
 fs::path locate_models(const std::optional<fs::path>& explicit_dir) {
   if (explicit_dir) {
     if (!holds_models(*explicit_dir)) {
@@ -58,11 +70,21 @@ fs::path resolve_model(const std::string& name_or_path, const std::optional<fs::
     if (!fs::is_regular_file(as_path, ec)) throw Error(name_or_path + ": no such model file");
     return as_path;
   }
+  for (const std::string& name : shipped_model_names()) {
+    if (name != name_or_path) continue;
+    const fs::path file = shipped_models_dir() / name / "model.json";
+    if (!fs::is_regular_file(file, ec)) {
+      throw Error(file.string() + ": shipped model " + name +
+                  " is missing (scripts/ship-model.sh trains and exports it)");
+    }
+    return file;
+  }
   bool known = false;
   for (const std::string& name : known_model_names()) known |= name == name_or_path;
   if (!known) {
     std::string list;
     for (const std::string& name : known_model_names()) list += (list.empty() ? "" : ", ") + name;
+    for (const std::string& name : shipped_model_names()) list += ", " + name;
     throw Error(name_or_path + ": unknown model (use " + list +
                 ", a TF.js model .json or a fine-tuned .pt)");
   }

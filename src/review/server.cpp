@@ -13,6 +13,7 @@
 #include "core/random.h"
 #include "review/analysis.h"
 #include "review/clips.h"
+#include "review/http_host.h"
 #include "review/store.h"
 
 namespace wheelpose::review {
@@ -280,11 +281,7 @@ std::string participant_link(const std::string& base_url, const std::string& tok
 
 void serve(const ServeOptions& options) {
   // Block the stop signals in every thread; one thread waits for them and stops the server.
-  sigset_t signals;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGINT);
-  sigaddset(&signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  const sigset_t signals = block_stop_signals();
 
   const ClipCatalog catalog(options.clip_folders);
   bool created = false;
@@ -306,14 +303,7 @@ void serve(const ServeOptions& options) {
   http.set_keep_alive_timeout(2);
   http.set_read_timeout(10, 0);
   http.set_write_timeout(10, 0);
-  http.set_default_headers({
-      {"Content-Security-Policy",
-       "default-src 'self'; img-src 'self' data:; object-src 'none'; frame-ancestors 'none'; "
-       "base-uri 'none'; form-action 'none'"},
-      {"X-Content-Type-Options", "nosniff"},
-      {"Referrer-Policy", "no-referrer"},
-      {"X-Frame-Options", "DENY"},
-  });
+  set_security_headers(http);
   ReviewServer api(store, catalog);
   api.install(http);
   if (!http.set_mount_point("/", web.string())) {
@@ -326,33 +316,13 @@ void serve(const ServeOptions& options) {
     }
   });
 
-  int port = options.port;
-  if (port == 0) {
-    port = http.bind_to_any_port(options.bind);
-    if (port < 0) throw Error("cannot bind " + options.bind, ErrorKind::kFailure);
-  } else if (!http.bind_to_port(options.bind, port)) {
-    throw Error("cannot listen on " + options.bind + ":" + std::to_string(port) +
-                    " (in use, or not an address of this machine)",
-                ErrorKind::kFailure);
-  }
-  const std::string host = options.bind == "0.0.0.0" ? "127.0.0.1" : options.bind;
-  const std::string url = "http://" + host + ":" + std::to_string(port);
+  const std::string url = bind_server(http, options.bind, options.port);
   if (created) std::printf("admin token (shown once, keep it): %s\n", store.admin_token().c_str());
   std::printf("serving %zu clips in %zu groups from %s\nlistening on %s\n", catalog.size(),
               catalog.groups().size(), options.db.c_str(), url.c_str());
   std::fflush(stdout);
 
-  std::thread stopper([&http, signals] {
-    int sig = 0;
-    sigwait(&signals, &sig);
-    http.stop();
-  });
-  http.listen_after_bind();
-  // listen returned on its own (not by a signal): wake the waiting thread.
-  if (stopper.joinable()) {
-    pthread_kill(stopper.native_handle(), SIGTERM);
-    stopper.join();
-  }
+  listen_until_signal(http, signals);
 }
 
 }  // namespace wheelpose::review

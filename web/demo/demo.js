@@ -1,0 +1,241 @@
+// The demo page: both models (TF.js graph models served by `wheelpose demo`) on one image. The
+// input is prepared like `wheelpose predict --size 256`: the image scaled so its longer side is
+// 256, padded right and bottom to multiples of 32; MoveNet MultiPose's output (1×6×56: 17 ×
+// (y, x, score), box ymin, xmin, ymax, xmax, score, fractions of the input) mapped back to image
+// pixels. Every text shown is set as text (textContent), never parsed as HTML.
+'use strict';
+
+const LONGER_SIDE = 256;
+const KEYPOINT_MIN_SCORE = 0.3;  // keypoints drawn
+const EDGES = [[0, 1], [0, 2], [1, 3], [2, 4], [5, 6], [5, 7], [7, 9], [6, 8], [8, 10], [5, 11],
+  [6, 12], [11, 12], [11, 13], [13, 15], [12, 14], [14, 16]];
+const COLOURS = ['#e6194b', '#3cb44b', '#4363d8', '#f58231', '#911eb4', '#42d4f4'];
+
+// What the page did, for people and for the browser test.
+window.demoState = { ready: false, busy: false, image: null, results: {}, error: null };
+const models = {};
+
+const $ = (id) => document.getElementById(id);
+
+function setStatus(text, isError = false) {
+  const status = $('status');
+  status.textContent = text;
+  status.classList.toggle('error', isError);
+  if (isError) window.demoState.error = text;
+}
+
+// The image's RGBA pixels at its own size.
+function pixelsOf(image, w, h) {
+  const canvas = document.createElement('canvas');
+  canvas.width = w;
+  canvas.height = h;
+  const ctx = canvas.getContext('2d', { willReadFrequently: true });
+  ctx.drawImage(image, 0, 0);
+  return ctx.getImageData(0, 0, w, h).data;
+}
+
+// Shrinks by averaging each output pixel's footprint, weighted by coverage: OpenCV's INTER_AREA,
+// which `predict` uses, so both see the same input (a canvas's own downscale does not).
+function areaResize(rgba, sw, sh, dw, dh, out, outW) {
+  const fx = sw / dw, fy = sh / dh;
+  const spans = (n, f, limit) => Array.from({ length: n }, (_, d) => {
+    const lo = d * f, hi = Math.min((d + 1) * f, limit), taps = [];
+    for (let s = Math.floor(lo); s < hi; ++s) taps.push([s, Math.min(hi, s + 1) - Math.max(lo, s)]);
+    return taps;
+  });
+  const xs = spans(dw, fx, sw), ys = spans(dh, fy, sh);
+  for (let dy = 0; dy < dh; ++dy) {
+    for (let dx = 0; dx < dw; ++dx) {
+      let r = 0, g = 0, b = 0, total = 0;
+      for (const [sy, wy] of ys[dy]) {
+        for (const [sx, wx] of xs[dx]) {
+          const w = wx * wy, i = (sy * sw + sx) * 4;
+          r += rgba[i] * w;
+          g += rgba[i + 1] * w;
+          b += rgba[i + 2] * w;
+          total += w;
+        }
+      }
+      const o = (dy * outW + dx) * 3;
+      out[o] = Math.round(r / total);
+      out[o + 1] = Math.round(g / total);
+      out[o + 2] = Math.round(b / total);
+    }
+  }
+}
+
+// The letterboxed input: {tensor, scale, inputW, inputH, w, h}.
+function letterbox(image) {
+  const w = image.naturalWidth || image.width, h = image.naturalHeight || image.height;
+  const scale = LONGER_SIDE / Math.max(w, h);
+  const rw = Math.min(LONGER_SIDE, Math.max(1, Math.round(w * scale)));
+  const rh = Math.min(LONGER_SIDE, Math.max(1, Math.round(h * scale)));
+  const inputW = Math.ceil(rw / 32) * 32, inputH = Math.ceil(rh / 32) * 32;
+  const rgb = new Int32Array(inputW * inputH * 3);  // black padding
+  if (rw < w) {
+    areaResize(pixelsOf(image, w, h), w, h, rw, rh, rgb, inputW);
+  } else {  // enlarging: the canvas's bilinear filter
+    const canvas = document.createElement('canvas');
+    canvas.width = rw;
+    canvas.height = rh;
+    const ctx = canvas.getContext('2d', { willReadFrequently: true });
+    ctx.drawImage(image, 0, 0, rw, rh);
+    const rgba = ctx.getImageData(0, 0, rw, rh).data;
+    for (let y = 0; y < rh; ++y) {
+      for (let x = 0; x < rw; ++x) {
+        const i = (y * rw + x) * 4, o = (y * inputW + x) * 3;
+        rgb[o] = rgba[i];
+        rgb[o + 1] = rgba[i + 1];
+        rgb[o + 2] = rgba[i + 2];
+      }
+    }
+  }
+  return { tensor: tf.tensor4d(rgb, [1, inputH, inputW, 3], 'int32'), scale, inputW, inputH, w, h };
+}
+
+// MultiPose's output to people in image pixels, the model's order, those scoring minScore+.
+function decode(values, box, minScore) {
+  const people = [];
+  for (let j = 0; j < 6; ++j) {
+    const p = values.subarray(j * 56, j * 56 + 56);
+    if (p[55] < minScore) continue;
+    const keypoints = [];
+    for (let k = 0; k < 17; ++k) {
+      keypoints.push([p[3 * k + 1] * box.inputW / box.scale, p[3 * k] * box.inputH / box.scale,
+        p[3 * k + 2]]);
+    }
+    const clampX = (v) => Math.min(Math.max(v, 0), box.w), clampY = (v) => Math.min(Math.max(v, 0), box.h);
+    const x0 = clampX(p[52] * box.inputW / box.scale), y0 = clampY(p[51] * box.inputH / box.scale);
+    const x1 = clampX(p[54] * box.inputW / box.scale), y1 = clampY(p[53] * box.inputH / box.scale);
+    people.push({ score: p[55], keypoints, bbox: [x0, y0, Math.max(0, x1 - x0), Math.max(0, y1 - y0)] });
+  }
+  return people;
+}
+
+function draw(key, image, people) {
+  const canvas = $('canvas-' + key);
+  const w = image.naturalWidth || image.width, h = image.naturalHeight || image.height;
+  canvas.width = w;
+  canvas.height = h;
+  const ctx = canvas.getContext('2d');
+  ctx.drawImage(image, 0, 0);
+  const line = Math.max(2, Math.round(Math.max(w, h) / 300));
+  people.forEach((person, i) => {
+    const colour = COLOURS[i % COLOURS.length];
+    ctx.strokeStyle = colour;
+    ctx.fillStyle = colour;
+    ctx.lineWidth = line;
+    ctx.strokeRect(...person.bbox);
+    for (const [a, b] of EDGES) {
+      const pa = person.keypoints[a], pb = person.keypoints[b];
+      if (pa[2] < KEYPOINT_MIN_SCORE || pb[2] < KEYPOINT_MIN_SCORE) continue;
+      ctx.beginPath();
+      ctx.moveTo(pa[0], pa[1]);
+      ctx.lineTo(pb[0], pb[1]);
+      ctx.stroke();
+    }
+    for (const [x, y, s] of person.keypoints) {
+      if (s < KEYPOINT_MIN_SCORE) continue;
+      ctx.beginPath();
+      ctx.arc(x, y, line * 1.5, 0, 2 * Math.PI);
+      ctx.fill();
+    }
+    ctx.font = `${Math.max(12, line * 7)}px sans-serif`;
+    ctx.fillText(`${i + 1}: ${person.score.toFixed(2)}`, person.bbox[0] + line, person.bbox[1] - line * 2);
+  });
+  const list = $('people-' + key);
+  list.replaceChildren();
+  for (const [i, person] of people.entries()) {
+    const item = document.createElement('li');
+    const seen = person.keypoints.filter((k) => k[2] >= KEYPOINT_MIN_SCORE).length;
+    item.textContent = `Person ${i + 1}: score ${person.score.toFixed(2)}, ${seen} of 17 keypoints`;
+    list.append(item);
+  }
+  if (people.length === 0) {
+    const item = document.createElement('li');
+    item.textContent = 'Nobody found at this score.';
+    list.append(item);
+  }
+}
+
+async function runBoth(image, name) {
+  if (!window.demoState.ready) return;
+  window.demoState.busy = true;
+  setStatus(`Running both models on ${name}…`);
+  const minScore = Math.min(1, Math.max(0, Number($('min-score').value) || 0));
+  const box = letterbox(image);
+  const results = {};
+  try {
+    for (const key of Object.keys(models)) {
+      const model = models[key];
+      const out = model.execute({ [model.inputs[0].name]: box.tensor }, 'Identity:0');
+      const values = await out.data();
+      out.dispose();
+      results[key] = decode(values, box, minScore);
+      draw(key, image, results[key]);
+    }
+  } finally {
+    box.tensor.dispose();
+    window.demoState.busy = false;
+  }
+  window.demoState.image = name;
+  window.demoState.results = results;
+  const count = (key) => results[key].length;
+  setStatus(`${name}: pretrained found ${count('pretrained')}, wheelchair model ${count('wheelchair')} (score ≥ ${minScore}).`);
+}
+
+function loadImage(url, name) {
+  const image = new Image();
+  image.onload = () => runBoth(image, name).catch((e) => setStatus(`Could not run the models: ${e.message}`, true));
+  image.onerror = () => setStatus(`“${name}” could not be read as an image.`, true);
+  image.src = url;
+}
+
+function openFile(file) {
+  if (!file) return;
+  if (!file.type.startsWith('image/')) {
+    setStatus(`“${file.name}” is not an image (${file.type || 'unknown type'}); drop a JPEG or PNG photo.`, true);
+    return;
+  }
+  loadImage(URL.createObjectURL(file), file.name);
+}
+
+async function init() {
+  const config = await (await fetch('/api/config')).json();
+  const select = $('example');
+  for (const name of config.examples) {
+    const option = document.createElement('option');
+    option.value = name;
+    option.textContent = name;
+    select.append(option);
+  }
+  for (const m of config.models) {
+    $('title-' + m.key).textContent = `${$('title-' + m.key).textContent} (${m.name})`;
+  }
+  await tf.setBackend('cpu');
+  await tf.ready();
+  for (const key of ['pretrained', 'wheelchair']) {
+    models[key] = await tf.loadGraphModel(`/models/${key}/model.json`);
+  }
+  window.demoState.ready = true;
+  setStatus('Models loaded. Choose or drop a photo, or show an example.');
+}
+
+$('file').addEventListener('change', (e) => openFile(e.target.files[0]));
+$('show-example').addEventListener('click', () => {
+  const name = $('example').value;
+  if (name) loadImage('/examples/' + encodeURIComponent(name), name);
+});
+document.addEventListener('dragover', (e) => {
+  e.preventDefault();
+  $('drop-hint').hidden = false;
+});
+document.addEventListener('dragleave', (e) => {
+  if (e.relatedTarget === null) $('drop-hint').hidden = true;
+});
+document.addEventListener('drop', (e) => {
+  e.preventDefault();
+  $('drop-hint').hidden = true;
+  openFile(e.dataTransfer.files[0]);
+});
+init().catch((e) => setStatus(`Could not load the models: ${e.message}`, true));
