@@ -32,7 +32,8 @@
 # Environment overrides: TRAIN_FRAMES, VAL_FRAMES, TEST_FRAMES, REALISTIC_TEST_FRAMES,
 # STANDING_FRAMES, STEPS, BATCH, LR, FREEZE, VAL_EVERY, EXTRA_TRAIN_ARGS, ABLATION_SIZES,
 # STANDING_TRAIN_FRAMES, STANDING_WEIGHT; with --recipe transfer also REALISTIC_TRAIN_FRAMES,
-# RECIPE_STANDING_WEIGHT, PEOPLE_SIZE, PULL.
+# RECIPE_STANDING_WEIGHT, PEOPLE_SIZE, PULL; WISE (0..1, default 1): score the weight-space blend
+# pretrained + WISE × (fine-tuned − pretrained) (`wheelpose model blend`) instead of best.pt.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 wp="$root/build/release/wheelpose"
@@ -64,7 +65,7 @@ while (($#)); do
       ranking=$2
       shift
       ;;
-    -h|--help) sed -n '2,37p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,39p' "$0"; exit 0 ;;
     -*) echo "boost: unknown option $1 (see --help)" >&2; exit 2 ;;
     *) out="$1" ;;
   esac
@@ -233,8 +234,17 @@ if [[ ! -f "$out/run/last.pt" || ! -f "$out/run/done" ]]; then
   touch "$out/run/done"
 fi
 
-log "scoring the fine-tuned model (best.pt: step $(jq .step "$out/run/best.json"))"
-timed predict_finetuned "$wp" -q predict --model "$out/run/best.pt" --coco "$test_gt" \
+# WISE=ALPHA scores a blend of the pretrained and the fine-tuned weights instead (model blend,
+# WiSE-FT): alpha 1 is best.pt itself.
+scored_model="$out/run/best.pt"
+wise=${WISE:-1}
+if [[ $wise != 1 ]]; then
+  "$wp" -q model blend --finetuned "$out/run/best.pt" --alpha "$wise" --out "$out/run/wise.pt"
+  scored_model="$out/run/wise.pt"
+  recipe_note+="; the scored weights are pretrained + $wise × (fine-tuned − pretrained) (model blend)"
+fi
+log "scoring the fine-tuned model (best.pt: step $(jq .step "$out/run/best.json"), alpha $wise)"
+timed predict_finetuned "$wp" -q predict --model "$scored_model" --coco "$test_gt" \
   --images "$test_images" --out "$out/finetuned.json"
 # People without wheelchairs: the generated standing people and, with --real, the user's own.
 # Box-only ground truth (no labelled keypoint, e.g. `coco import-yolo` of real photos) is scored
@@ -243,7 +253,7 @@ eval_type() { jq -e 'any(.annotations[]; (.num_keypoints // 0) > 0)' "$1" >/dev/
 score_both() {  # score_both NAME GT IMAGES: OUT/NAME-{baseline,finetuned}.json and OUT/NAME-eval
   [[ -f "$out/$1-baseline.json" ]] || timed "predict_baseline_$1" "$wp" -q predict --coco "$2" \
     --images "$3" --out "$out/$1-baseline.json"
-  timed "predict_finetuned_$1" "$wp" -q predict --model "$out/run/best.pt" --coco "$2" \
+  timed "predict_finetuned_$1" "$wp" -q predict --model "$scored_model" --coco "$2" \
     --images "$3" --out "$out/$1-finetuned.json"
   "$wp" -q eval --gt "$2" --dt "$out/$1-finetuned.json" --baseline "$out/$1-baseline.json" \
     --type "$(eval_type "$2")" --out "$out/$1-eval" >/dev/null

@@ -53,7 +53,7 @@ TEST(BoostScript, QuickRunWritesTheComparison) {
   const fs::path real_boxes = dir / "real" / "boxes.json";
   std::ofstream(real_boxes) << boxes.dump();
   const fs::path out = dir / "run";
-  const std::string command = "PULL=50 bash " + (source / "scripts" / "boost.sh").string() +
+  const std::string command = "PULL=50 WISE=0.5 bash " + (source / "scripts" / "boost.sh").string() +
                               " --quick --recipe transfer --ablate --mix-standing --ranking " +
                               ranking.string() + " --real " + real.string() + " --real " +
                               real_boxes.string() + " " + out.string() + " > " +
@@ -103,6 +103,10 @@ TEST(BoostScript, QuickRunWritesTheComparison) {
   EXPECT_EQ(options["train"].size(), 3u);
   EXPECT_EQ(options["people_size"], nlohmann::json::parse("[30.0, 256.0]"));
   EXPECT_TRUE(options.contains("pull_to_start"));
+  // WISE: the scored weights are the blend, and the report says so.
+  EXPECT_TRUE(fs::exists(out / "run" / "wise.pt"));
+  EXPECT_NE(report.find("pretrained + 0.5 × (fine-tuned − pretrained)"), std::string::npos)
+      << report;
   // The size ablation: a row per subset (quick sizes 8 and 16) and the full set (24).
   EXPECT_NE(report.find("## Ablation: training-set size"), std::string::npos) << report;
   for (const char* row : {"| 8 | ", "| 16 | ", "| 24 | "})

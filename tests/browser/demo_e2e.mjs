@@ -3,8 +3,8 @@
 // `wheelpose predict --size 256` finds, keypoints within a few pixels; a dropped non-image gets
 // a message. Saves a screenshot.
 // Usage: node demo_e2e.mjs <wheelpose binary> <repo root> [screenshot.png]
-import { chromium } from 'playwright-core';
-import { spawn, execFileSync } from 'node:child_process';
+import { startServer, launchBrowser } from './harness.mjs';
+import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
@@ -27,30 +27,10 @@ for (const [key, model] of [['pretrained', 'movenet-multipose'], ['wheelchair', 
   expected[key] = JSON.parse(fs.readFileSync(out, 'utf8'));
 }
 
-const server = spawn(binary, ['demo', '--port', '0']);
-const url = await new Promise((resolve, reject) => {
-  let out = '';
-  server.stdout.on('data', (d) => {
-    out += d;
-    const m = /listening on (http:\/\/\S+)/.exec(out);
-    if (m) resolve(m[1]);
-  });
-  server.stderr.on('data', (d) => { out += d; });
-  server.on('exit', (code) => reject(new Error('server exited ' + code + ': ' + out)));
-  setTimeout(() => reject(new Error('server did not start: ' + out)), 15000);
-});
-
-const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'wheelpose-chromium-'));
-const browser = await chromium.launchPersistentContext(profile, {
-  executablePath: '/usr/bin/chromium',
-  headless: true,
-  viewport: { width: 1400, height: 900 },
-  args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-    '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-});
+const { server, url } = await startServer(binary, ['demo', '--port', '0']);
+const { page, close } = await launchBrowser({ width: 1400, height: 900 });
 let failed = false;
 try {
-  const page = browser.pages()[0] || await browser.newPage();
   const errors = [];
   const outside = [];
   page.on('pageerror', (e) => errors.push(e.message));
@@ -128,9 +108,8 @@ try {
   failed = true;
   console.error(e);
 } finally {
-  await browser.close();
+  await close();
   server.kill('SIGTERM');
-  fs.rmSync(profile, { recursive: true, force: true });
   fs.rmSync(work, { recursive: true, force: true });
 }
 process.exit(failed ? 1 : 0);

@@ -3,8 +3,8 @@
 // answers the rest, fills the follow-up and finishes; the stored answers are then checked with
 // `wheelpose review export`. Saves a screenshot of the rating page.
 // Usage: node review_e2e.mjs <wheelpose binary> <repo root> [screenshot.png]
-import { chromium } from 'playwright-core';
-import { spawn, execFileSync } from 'node:child_process';
+import { startServer, launchBrowser } from './harness.mjs';
+import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
@@ -27,31 +27,11 @@ const db = path.join(work, 'review.sqlite');
 const invite = run('review', 'invite', '--db', db, '--name', 'P1');
 const token = /#token=([0-9a-f]{64})/.exec(invite)[1];
 
-const server = spawn(binary, ['review', 'serve', '--clips', path.join(work, 'humanml'),
+const { server, url } = await startServer(binary, ['review', 'serve', '--clips', path.join(work, 'humanml'),
   path.join(work, 'text2motion'), '--db', db, '--port', '0', '--web', path.join(repo, 'web')]);
-const url = await new Promise((resolve, reject) => {
-  let out = '';
-  server.stdout.on('data', (d) => {
-    out += d;
-    const m = /listening on (http:\/\/\S+)/.exec(out);
-    if (m) resolve(m[1]);
-  });
-  server.on('exit', (code) => reject(new Error('server exited ' + code + ': ' + out)));
-  setTimeout(() => reject(new Error('server did not start: ' + out)), 15000);
-});
-
-const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'wheelpose-chromium-'));
-// A fresh profile every run (playwright passes it to chromium as --user-data-dir).
-const browser = await chromium.launchPersistentContext(profile, {
-  executablePath: '/usr/bin/chromium',
-  headless: true,
-  viewport: { width: 1280, height: 900 },
-  args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-    '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-});
+const { page, close } = await launchBrowser({ width: 1280, height: 900 });
 let failed = false;
 try {
-  const page = browser.pages()[0] || await browser.newPage();
   const errors = [];
   page.on('pageerror', (e) => errors.push(e.message));
   page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
@@ -157,9 +137,8 @@ try {
   failed = true;
   console.error(e);
 } finally {
-  await browser.close();
+  await close();
   server.kill('SIGTERM');
-  fs.rmSync(profile, { recursive: true, force: true });
   fs.rmSync(work, { recursive: true, force: true });
 }
 process.exit(failed ? 1 : 0);

@@ -1,0 +1,50 @@
+// `wheelpose demo`'s checks before it serves: each missing piece is one line naming it, exit 2.
+// (The page itself is tested in chromium: tests/browser/demo_e2e.mjs.)
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "cli_runner.h"
+
+namespace {
+
+using wheelpose::testing::fresh_temp_dir;
+using wheelpose::testing::run_wheelpose;
+namespace fs = std::filesystem;
+
+TEST(DemoCli, MissingPiecesAreNamedBeforeServing) {
+  if (!fs::exists(fs::path(WHEELPOSE_SOURCE_DIR) / "models" / "movenet-multipose.json")) {
+    GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
+  }
+  const auto dir = fresh_temp_dir("demo_bad");
+  auto r = run_wheelpose("demo --port 0 --web " + (dir / "nowhere").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("nowhere/index.html: no such file"), std::string::npos) << r.output;
+
+  fs::create_directories(dir / "web");
+  std::ofstream(dir / "web" / "index.html") << "<!doctype html>";
+  r = run_wheelpose("demo --port 0 --web " + (dir / "web").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("node_modules/@tensorflow: no such folder"), std::string::npos)
+      << r.output;
+
+  r = run_wheelpose("demo --port 0 --wheelchair " + (dir / "missing.json").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("missing.json: no such model file"), std::string::npos) << r.output;
+
+  // A .json that is not a TF.js model, and a model whose shard is missing.
+  std::ofstream(dir / "plain.json") << "{\"a\": 1}";
+  r = run_wheelpose("demo --port 0 --wheelchair " + (dir / "plain.json").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("plain.json: not a TF.js graph model"), std::string::npos) << r.output;
+  std::ofstream(dir / "noshard.json")
+      << R"({"weightsManifest": [{"paths": ["gone.bin"], "weights": []}]})";
+  r = run_wheelpose("demo --port 0 --wheelchair " + (dir / "noshard.json").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("gone.bin: no such file"), std::string::npos) << r.output;
+}
+
+}  // namespace
