@@ -46,10 +46,10 @@ rm -rf "$staging"
 
 # The card: what the model is, how it was made, and every score the experiment measured.
 row() {  # row LABEL EVAL_DIR: "| LABEL | pretrained | shipped | change |" for KP AP, box AP, box AP50
-  jq -r --arg label "$1" '
+  jq -r --arg name "$1" '
     def p(x): if x == null or x < 0 then "–" else (x * 1000 | round / 10 | tostring) end;
-    def d(a; b): if a == null or b == null or a < 0 or b < 0 then "–" else ((a - b) * 1000 | round / 10 | tostring) end;
-    "| \($label) | \(p(.baseline.keypoints.stats.AP)) → \(p(.results.keypoints.stats.AP)) (\(d(.results.keypoints.stats.AP; .baseline.keypoints.stats.AP))) | \(p(.baseline.bbox.stats.AP)) → \(p(.results.bbox.stats.AP)) (\(d(.results.bbox.stats.AP; .baseline.bbox.stats.AP))) | \(p(.baseline.bbox.stats.AP50)) → \(p(.results.bbox.stats.AP50)) (\(d(.results.bbox.stats.AP50; .baseline.bbox.stats.AP50))) |"
+    def d(a; b): if a == null or b == null or a < 0 or b < 0 then "–" else ((a - b) * 1000 | round / 10 | if . > 0 then "+\(.)" else tostring end) end;
+    "| \($name) | \(p(.baseline.keypoints.stats.AP)) → \(p(.results.keypoints.stats.AP)) (\(d(.results.keypoints.stats.AP; .baseline.keypoints.stats.AP))) | \(p(.baseline.bbox.stats.AP)) → \(p(.results.bbox.stats.AP)) (\(d(.results.bbox.stats.AP; .baseline.bbox.stats.AP))) | \(p(.baseline.bbox.stats.AP50)) → \(p(.results.bbox.stats.AP50)) (\(d(.results.bbox.stats.AP50; .baseline.bbox.stats.AP50))) |"
   ' "$2/metrics.json"
 }
 train_seconds=$(awk '$1 == "train" {s += $2} END {print s + 0}' "$out/times.txt")
@@ -109,7 +109,8 @@ best_step=$(jq .step "$out/run/best.json")
   echo "- Not measured: children, crowds of more than 6 people (the model's limit), unusual or"
   echo "  reclining chairs, people transferring in or out of a chair, strong occlusion."
   echo "- A person in a wheelchair is found no better than the data it saw: the paper preset's"
-  echo "  manual, sport and power chairs, adult MakeHuman bodies and the CMU/AMASS motion clips."
+  echo "  manual, sport and power chairs, adult MakeHuman bodies and the training motion clips"
+  echo "  (configs/boost-train-clips.json)."
 } >"$staging/MODEL_CARD.md"
 rm -rf "$ship.old"
 [[ -d $ship ]] && mv "$ship" "$ship.old"

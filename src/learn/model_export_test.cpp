@@ -59,12 +59,12 @@ fs::path skier_file() {
   return fs::path(WHEELPOSE_SHARED_DIR) / "data" / "coco-sample" / "000000000785.jpg";
 }
 
-// An image letterboxed to 256 on its longer side (RGB).
-cv::Mat model_input(const fs::path& file) {
+// An image letterboxed to `size` on its longer side (RGB).
+cv::Mat model_input(const fs::path& file, int size = 256) {
   const cv::Mat bgr = cv::imread(file.string(), cv::IMREAD_COLOR);
   cv::Mat rgb;
   cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
-  return letterbox_image(rgb, plan_letterbox(rgb.cols, rgb.rows, 256));
+  return letterbox_image(rgb, plan_letterbox(rgb.cols, rgb.rows, size));
 }
 
 class ModelExport : public ::testing::Test {
@@ -203,10 +203,20 @@ TEST_F(ModelExport, TfjsRunsTheExportLikeLibTorch) {
   export_tfjs_model(choose_model(pt.string(), testing::models_dir()), dir.path() / "export", {});
   json manifest = {{"inputs", json::array()}};
   std::vector<cv::Mat> inputs;
-  const std::vector<fs::path> files = {frame_file(0), frame_file(1), skier_file()};
+  // The multipose inputs of the importer's TF.js fixture (movenet_reference_test.cpp): the five
+  // frames and the skier at 256, two frames at 512. The skier last.
+  std::vector<fs::path> files;
+  std::vector<int> sizes;
+  auto add = [&](const fs::path& file, int size) {
+    files.push_back(file);
+    sizes.push_back(size);
+  };
+  for (int i = 0; i < 5; ++i) add(frame_file(i), 256);
+  for (int i = 0; i < 2; ++i) add(frame_file(i), 512);
+  add(skier_file(), 256);
   for (std::size_t i = 0; i < files.size(); ++i) {
     if (!fs::exists(files[i])) GTEST_SKIP() << files[i] << " missing (shared test data)";
-    inputs.push_back(model_input(files[i]));
+    inputs.push_back(model_input(files[i], sizes[i]));
     cv::Mat bgr;
     cv::cvtColor(inputs.back(), bgr, cv::COLOR_RGB2BGR);
     const std::string name = "input" + std::to_string(i) + ".png";
@@ -231,9 +241,9 @@ TEST_F(ModelExport, TfjsRunsTheExportLikeLibTorch) {
     double worst = 0;
     for (std::int64_t k = 0; k < ours.numel(); ++k)
       worst = std::max(worst, std::abs(v[k] - theirs[k]));
-    EXPECT_LE(worst, 1e-3) << files[i];
-    std::cout << "[ NOTE ] " << files[i].filename() << ": TF.js and LibTorch differ by at most "
-              << worst << "\n";
+    EXPECT_LE(worst, 1e-3) << files[i] << " at " << sizes[i];
+    std::cout << "[ NOTE ] " << files[i].filename() << " at " << sizes[i]
+              << ": TF.js and LibTorch differ by at most " << worst << "\n";
   }
   // The shifted weights still find the skier: the comparison is of a working model, not noise.
   EXPECT_GT(run(exported, inputs.back()).select(2, 55).max().item<double>(), 0.3);

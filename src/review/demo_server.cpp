@@ -54,6 +54,12 @@ void mount_model(httplib::Server& http, const std::string& prefix, const fs::pat
   }
 }
 
+// A model's name on the page: its file's stem, or its folder's for an export's model.json.
+std::string display_name(const fs::path& topology) {
+  const std::string stem = topology.stem().string();
+  return stem == "model" ? topology.parent_path().filename().string() : stem;
+}
+
 }  // namespace
 
 void serve_demo(DemoOptions options) {
@@ -86,9 +92,8 @@ void serve_demo(DemoOptions options) {
   const std::string config =
       json{{"examples", examples},
            {"models",
-            {{{"key", "pretrained"}, {"name", options.pretrained_topology.stem().string()}},
-             {{"key", "wheelchair"},
-              {"name", options.wheelchair_topology.parent_path().filename().string()}}}}}
+            {{{"key", "pretrained"}, {"name", display_name(options.pretrained_topology)}},
+             {{"key", "wheelchair"}, {"name", display_name(options.wheelchair_topology)}}}}}
           .dump();
   http.Get("/api/config", [config](const httplib::Request&, httplib::Response& res) {
     res.set_content(config, "application/json");
