@@ -53,11 +53,11 @@ TEST(BoostScript, QuickRunWritesTheComparison) {
   const fs::path real_boxes = dir / "real" / "boxes.json";
   std::ofstream(real_boxes) << boxes.dump();
   const fs::path out = dir / "run";
-  const std::string command = "PULL=50 WISE=0.5 bash " + (source / "scripts" / "boost.sh").string() +
-                              " --quick --recipe transfer --ablate --mix-standing --ranking " +
-                              ranking.string() + " --real " + real.string() + " --real " +
-                              real_boxes.string() + " " + out.string() + " > " +
-                              (dir / "log.txt").string() + " 2>&1";
+  const std::string command =
+      "PULL=50 WISE=0.5 bash " + (source / "scripts" / "boost.sh").string() +
+      " --quick --recipe transfer --ablate --mix-standing --ranking " + ranking.string() +
+      " --real " + real.string() + " --real " + real_boxes.string() + " " + out.string() + " > " +
+      (dir / "log.txt").string() + " 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << read_text(dir / "log.txt");
   const std::string report = read_text(out / "report.md");
   EXPECT_NE(report.find("the " + std::to_string(kept) + " of configs/boost-train-clips.json's " +
