@@ -8,7 +8,9 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "core/error.h"
 #include "learn/model_export.h"
 #include "learn/model_files.h"
 
@@ -24,6 +26,7 @@ struct ModelCommandOptions {
   std::string models;
   std::string out;
   double alpha = 0.5;
+  std::vector<std::string> part_alphas;  // PART=ALPHA
   bool float32 = false;
 };
 
@@ -43,7 +46,20 @@ void run_export(const ModelCommandOptions& o) {
 void run_blend(const ModelCommandOptions& o) {
   const learn::ModelChoice start = learn::choose_model(o.start, models_dir(o));
   const learn::ModelChoice tuned = learn::choose_model(o.finetuned, models_dir(o));
-  learn::blend_weights(start, tuned, o.alpha, o.out);
+  learn::BlendAlphas alphas{.alpha = o.alpha, .part_alphas = {}};
+  for (const std::string& spec : o.part_alphas) {
+    const std::size_t eq = spec.rfind('=');
+    double alpha = -1;
+    try {
+      if (eq != std::string::npos && eq > 0) alpha = std::stod(spec.substr(eq + 1));
+    } catch (const std::exception&) {
+    }
+    if (alpha < 0 || alpha > 1) {
+      throw Error("--alpha-for: '" + spec + "' is not PART=ALPHA with ALPHA in [0, 1]");
+    }
+    alphas.part_alphas.emplace_back(spec.substr(0, eq), alpha);
+  }
+  learn::blend_weights(start, tuned, alphas, o.out);
   spdlog::info("model blend: {} + {} x ({} - start) into {}", o.start, o.alpha, o.finetuned, o.out);
 }
 
@@ -81,6 +97,10 @@ void attach_model(CLI::App& parent) {
   blend->add_option("--alpha", options->alpha, "0 = the start model, 1 = the fine-tuned one")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
+  blend->add_option("--alpha-for", options->part_alphas,
+                    "PART=ALPHA: this alpha for the parameters whose name contains PART, e.g. "
+                    "feature_extractor (the backbone) or kpt_ / box_ / center_ (heads); "
+                    "repeatable, the first match wins");
   blend->add_option("--out", options->out, ".pt to write")->required();
   add_models_option(blend, *options);
   blend->callback([options] { run_blend(*options); });

@@ -92,11 +92,16 @@ ExportSummary export_tfjs_model(const ModelChoice& source, const fs::path& out_d
   return summary;
 }
 
-void blend_weights(const ModelChoice& start, const ModelChoice& finetuned, double alpha,
-                   const fs::path& out_pt) {
-  if (!(alpha >= 0 && alpha <= 1)) {
-    throw Error("blend: alpha must be in [0, 1], got " + std::to_string(alpha));
-  }
+void blend_weights(const ModelChoice& start, const ModelChoice& finetuned,
+                   const BlendAlphas& alphas, const fs::path& out_pt) {
+  const auto check_alpha = [](double alpha, const std::string& where) {
+    if (!(alpha >= 0 && alpha <= 1)) {
+      throw Error("blend: " + where + " must be in [0, 1], got " + std::to_string(alpha));
+    }
+  };
+  check_alpha(alphas.alpha, "alpha");
+  for (const auto& [part, alpha] : alphas.part_alphas)
+    check_alpha(alpha, "alpha of '" + part + "'");
   const std::shared_ptr<GraphModule> start_module = load_choice(start);
   const std::shared_ptr<GraphModule> tuned_module = load_choice(finetuned);
   GraphModule& base = *start_module;
@@ -108,6 +113,16 @@ void blend_weights(const ModelChoice& start, const ModelChoice& finetuned, doubl
     throw Error(what + ": weights of model '" + tuned.graph().name() + "', not of '" +
                 base.graph().name() + "'");
   }
+  std::vector<bool> part_used(alphas.part_alphas.size(), false);
+  const auto alpha_of = [&](const std::string& node) {
+    for (std::size_t i = 0; i < alphas.part_alphas.size(); ++i) {
+      if (node.find(alphas.part_alphas[i].first) != std::string::npos) {
+        part_used[i] = true;
+        return alphas.part_alphas[i].second;
+      }
+    }
+    return alphas.alpha;
+  };
   torch::NoGradGuard no_grad;
   for (const std::string& node : base.parameter_nodes()) {
     const torch::Tensor target = tuned.parameter(node);
@@ -115,7 +130,13 @@ void blend_weights(const ModelChoice& start, const ModelChoice& finetuned, doubl
     if (!p.sizes().equals(target.sizes())) {
       throw Error(what + ": parameter '" + node + "' has another shape than in the start model");
     }
-    p.lerp_(target, alpha);
+    p.lerp_(target, alpha_of(node));
+  }
+  for (std::size_t i = 0; i < part_used.size(); ++i) {
+    if (!part_used[i]) {
+      throw Error("blend: no parameter of " + base.graph().name() + " is named like '" +
+                  alphas.part_alphas[i].first + "'");
+    }
   }
   base.save(out_pt);
 }

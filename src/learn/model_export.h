@@ -12,6 +12,8 @@
 #include <cstddef>
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "learn/model_files.h"
 
@@ -38,10 +40,19 @@ inline constexpr const char* kExportShard = "group1-shard1of1.bin";
 ExportSummary export_tfjs_model(const ModelChoice& source, const std::filesystem::path& out_dir,
                                 const ExportOptions& options);
 
+// How far toward the fine-tuned weights each parameter moves. `alpha` for all of them, except
+// parameters whose node name contains one of `part_alphas`' names (the first that matches
+// wins), e.g. {"feature_extractor", 0.3} to keep more of the start's backbone than its heads.
+struct BlendAlphas {
+  double alpha = 0.5;
+  std::vector<std::pair<std::string, double>> part_alphas;
+};
+
 // Weight-space interpolation (WiSE-FT, Wortsman et al. 2022): every trainable parameter becomes
 // start + alpha * (finetuned - start), saved as a .pt of the start's model. alpha 0 gives the
-// start's weights, 1 the fine-tuned ones. Both must be the same MoveNet model.
-void blend_weights(const ModelChoice& start, const ModelChoice& finetuned, double alpha,
-                   const std::filesystem::path& out_pt);
+// start's weights, 1 the fine-tuned ones. Both must be the same MoveNet model; an alpha outside
+// [0, 1] or a part name that matches no parameter throws Error.
+void blend_weights(const ModelChoice& start, const ModelChoice& finetuned,
+                   const BlendAlphas& alphas, const std::filesystem::path& out_pt);
 
 }  // namespace wheelpose::learn

@@ -158,7 +158,7 @@ TEST_F(ModelExport, BlendInterpolatesEveryParameter) {
   const fs::path pt = write_shifted_weights(dir.path() / "tuned.pt");
   const ModelChoice start{testing::model_json(kMultipose), std::nullopt};
   const ModelChoice tuned_choice{testing::model_json(kMultipose), pt};
-  blend_weights(start, tuned_choice, 0.25, dir.path() / "blend.pt");
+  blend_weights(start, tuned_choice, {.alpha = 0.25, .part_alphas = {}}, dir.path() / "blend.pt");
   GraphModule pretrained(testing::model_json(kMultipose));
   GraphModule tuned(testing::model_json(kMultipose));
   tuned.load(pt);
@@ -169,23 +169,66 @@ TEST_F(ModelExport, BlendInterpolatesEveryParameter) {
     const torch::Tensor expected = p0 + 0.25 * (tuned.parameter(node).detach() - p0);
     ASSERT_TRUE(torch::allclose(blended.parameter(node).detach(), expected, 1e-6, 1e-7)) << node;
   }
-  blend_weights(start, tuned_choice, 1.0, dir.path() / "one.pt");
+  blend_weights(start, tuned_choice, {.alpha = 1.0, .part_alphas = {}}, dir.path() / "one.pt");
   GraphModule one(testing::model_json(kMultipose));
   one.load(dir.path() / "one.pt");
   for (const std::string& node : tuned.parameter_nodes()) {
     ASSERT_TRUE(torch::equal(one.parameter(node).detach(), tuned.parameter(node).detach()));
   }
   EXPECT_NE(error_of([&] {
-              blend_weights(start, tuned_choice, 1.5, dir.path() / "x.pt");
+              blend_weights(start, tuned_choice, {.alpha = 1.5, .part_alphas = {}},
+                            dir.path() / "x.pt");
             }).find("alpha must be in [0, 1]"),
             std::string::npos);
   if (testing::have_model("movenet-lightning")) {
     const ModelChoice other{testing::model_json("movenet-lightning"), std::nullopt};
     EXPECT_NE(error_of([&] {
-                blend_weights(start, other, 0.5, dir.path() / "x.pt");
+                blend_weights(start, other, {}, dir.path() / "x.pt");
               }).find("weights of model 'movenet-lightning', not of 'movenet-multipose'"),
               std::string::npos);
   }
+  EXPECT_FALSE(fs::exists(dir.path() / "x.pt"));
+}
+
+// Per-part alphas: the backbone keeps the start's weights, the keypoint heads take the
+// fine-tuned ones, everything else goes halfway; a part that names nothing is an error.
+TEST_F(ModelExport, BlendTakesAnAlphaPerPart) {
+  TempDir dir("blend-parts");
+  const fs::path pt = write_shifted_weights(dir.path() / "tuned.pt");
+  const ModelChoice start{testing::model_json(kMultipose), std::nullopt};
+  const ModelChoice tuned_choice{testing::model_json(kMultipose), pt};
+  const BlendAlphas alphas{.alpha = 0.5,
+                           .part_alphas = {{"feature_extractor", 0.0}, {"/kpt_", 1.0}}};
+  blend_weights(start, tuned_choice, alphas, dir.path() / "parts.pt");
+  GraphModule pretrained(testing::model_json(kMultipose));
+  GraphModule tuned(testing::model_json(kMultipose));
+  tuned.load(pt);
+  GraphModule blended(testing::model_json(kMultipose));
+  blended.load(dir.path() / "parts.pt");
+  int backbone = 0, keypoint_heads = 0, others = 0;
+  for (const std::string& node : tuned.parameter_nodes()) {
+    const torch::Tensor p0 = pretrained.parameter(node).detach();
+    const torch::Tensor p1 = tuned.parameter(node).detach();
+    const torch::Tensor got = blended.parameter(node).detach();
+    if (node.find("feature_extractor") != std::string::npos) {
+      ASSERT_TRUE(torch::equal(got, p0)) << node;
+      ++backbone;
+    } else if (node.find("/kpt_") != std::string::npos) {
+      ASSERT_TRUE(torch::equal(got, p1)) << node;
+      ++keypoint_heads;
+    } else {
+      ASSERT_TRUE(torch::allclose(got, p0 + 0.5 * (p1 - p0), 1e-6, 1e-7)) << node;
+      ++others;
+    }
+  }
+  EXPECT_GT(backbone, 0);
+  EXPECT_GT(keypoint_heads, 0);
+  EXPECT_GT(others, 0);
+  const BlendAlphas typo{.alpha = 0.5, .part_alphas = {{"no_such_layer", 0.0}}};
+  EXPECT_NE(error_of([&] {
+              blend_weights(start, tuned_choice, typo, dir.path() / "x.pt");
+            }).find("no parameter of movenet-multipose is named like 'no_such_layer'"),
+            std::string::npos);
   EXPECT_FALSE(fs::exists(dir.path() / "x.pt"));
 }
 
