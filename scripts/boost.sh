@@ -33,7 +33,9 @@
 # STANDING_FRAMES, STEPS, BATCH, LR, FREEZE, VAL_EVERY, EXTRA_TRAIN_ARGS, ABLATION_SIZES,
 # STANDING_TRAIN_FRAMES, STANDING_WEIGHT; with --recipe transfer also REALISTIC_TRAIN_FRAMES,
 # RECIPE_STANDING_WEIGHT, PEOPLE_SIZE, PULL; WISE (0..1, default 1): score the weight-space blend
-# pretrained + WISE × (fine-tuned − pretrained) (`wheelpose model blend`) instead of best.pt.
+# pretrained + WISE × (fine-tuned − pretrained) (`wheelpose model blend`) instead of best.pt;
+# DISTILL (default 0): with any recipe, soft targets from the frozen pretrained model's heatmaps
+# at this weight (train --distill).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 wp="$root/build/release/wheelpose"
@@ -65,7 +67,7 @@ while (($#)); do
       ranking=$2
       shift
       ;;
-    -h|--help) sed -n '2,39p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,41p' "$0"; exit 0 ;;
     -*) echo "boost: unknown option $1 (see --help)" >&2; exit 2 ;;
     *) out="$1" ;;
   esac
@@ -99,6 +101,7 @@ freeze=${FREEZE:-0}
 # The transfer recipe's own settings (README, "Real photos": chosen on the real dev set).
 people_size=${PEOPLE_SIZE:-30:256}
 pull=${PULL:-0}
+distill=${DISTILL:-0}
 recipe_standing_weight=${RECIPE_STANDING_WEIGHT:-0.5}
 
 # The training clips: configs/boost-train-clips.json, or those of them a review ranking keeps.
@@ -221,6 +224,10 @@ if [[ $recipe == transfer ]]; then
     recipe_args+=(--pull-to-start "$pull")
     recipe_note+=", weights pulled toward the pretrained ones (--pull-to-start $pull)"
   fi
+fi
+if [[ $distill != 0 ]]; then
+  recipe_args+=(--distill "$distill")
+  recipe_note+=", distilled from the frozen pretrained model's heatmaps (--distill $distill)"
 fi
 if [[ ! -f "$out/run/last.pt" || ! -f "$out/run/done" ]]; then
   resume=""

@@ -130,6 +130,10 @@ void attach_train(CLI::App& parent) {
                   "Each step, move every weight lr x this of the way back to its starting value "
                   "(0: off)")
       ->capture_default_str();
+  cmd->add_option("--distill", o.distill,
+                  "Weight of soft targets from the frozen start model's centre and keypoint "
+                  "heatmaps on every batch (keeps what it knows; 0: off)")
+      ->capture_default_str();
   cmd->add_option("--loader-threads", o.loader_threads, "Batches prepared ahead in parallel")
       ->capture_default_str();
   cmd->add_option("--threads", o.threads, "Torch threads (0 = every core)")

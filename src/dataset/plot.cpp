@@ -14,7 +14,7 @@ namespace {
 namespace fs = std::filesystem;
 
 void set_palette() {
-  plscmap0n(8);
+  plscmap0n(9);
   plscol0(0, 255, 255, 255);
   plscol0(1, 0, 0, 0);
   plscol0(2, 0, 114, 178);
@@ -23,6 +23,7 @@ void set_palette() {
   plscol0(5, 128, 128, 128);
   plscol0(6, 0, 158, 115);
   plscol0(7, 204, 121, 167);
+  plscol0(8, 86, 180, 233);
   // Colour map 1 (heatmaps): white -> blue -> dark red, in RGB.
   PLFLT pos[] = {0.0, 0.35, 0.7, 1.0};
   PLFLT r[] = {1.0, 0.35, 0.9, 0.5}, g[] = {1.0, 0.55, 0.3, 0.0}, b[] = {1.0, 0.9, 0.1, 0.0};

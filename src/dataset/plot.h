@@ -5,7 +5,7 @@
 // PLplot keeps global state, so figures are drawn one at a time (render() holds a lock).
 //
 // Colour map 0: 0 white background, 1 black ink, 2 blue, 3 orange, 4 red, 5 grey, 6 green,
-// 7 purple. Colour map 1 (image maps): white -> blue -> dark red.
+// 7 purple, 8 sky blue. Colour map 1 (image maps): white -> blue -> dark red.
 
 #include <filesystem>
 #include <functional>

@@ -67,7 +67,8 @@ void GradientAverager::average(const std::vector<torch::Tensor>& parameters, Ste
                             &parts.keypoint_regression,
                             &parts.keypoint_offset,
                             &parts.box_scale,
-                            &parts.box_offset};
+                            &parts.box_offset,
+                            &parts.distill};
   std::vector<float> values;
   for (double* f : fields) values.push_back(static_cast<float>(*f));
   pieces.push_back(torch::tensor(values, torch::kFloat));

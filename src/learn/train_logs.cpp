@@ -9,14 +9,14 @@ namespace fs = std::filesystem;
 
 const char* const kTrainLogHeader =
     "step,learning_rate,loss,centre,keypoint_heatmap,keypoint_regression,keypoint_offset,"
-    "box_scale,box_offset,images_per_second\n";
+    "box_scale,box_offset,distill,images_per_second\n";
 
 std::string train_log_row(const StepReport& r) {
   std::ostringstream row;
   row.precision(6);
   row << r.step << ',' << r.learning_rate << ',' << r.loss << ',' << r.centre << ','
       << r.keypoint_heatmap << ',' << r.keypoint_regression << ',' << r.keypoint_offset << ','
-      << r.box_scale << ',' << r.box_offset << ',' << r.images_per_second << '\n';
+      << r.box_scale << ',' << r.box_offset << ',' << r.distill << ',' << r.images_per_second << '\n';
   return row.str();
 }
 

@@ -130,12 +130,38 @@ StepLosses compute_losses(const TensorMap& heads, const TrainBatch& b) {
   return out;
 }
 
+Tensor distillation_loss(const TensorMap& student, const TensorMap& teacher) {
+  Tensor total = torch::zeros({});
+  for (const std::string& head : {kMovenetHeads[0], kMovenetHeads[3]}) {
+    const Tensor& s = student.at(head);
+    const Tensor t = teacher.at(head).detach();
+    const Tensor p = torch::sigmoid(t);
+    // BCE(student, p) − BCE(teacher, p): the KL divergence, exactly 0 at agreement.
+    const Tensor kl = torch::binary_cross_entropy_with_logits(s, p, {}, {}, at::Reduction::None) -
+                      torch::binary_cross_entropy_with_logits(t, p, {}, {}, at::Reduction::None);
+    total = total + kl.sum() / static_cast<double>(s.size(0));
+  }
+  return total;
+}
+
 StepReport optimizer_step(GraphModule& model, torch::optim::Optimizer& optimizer,
                           const TrainBatch& batch, double clip_norm, int step_number,
-                          const std::function<void(StepReport&)>& after_backward) {
+                          const std::function<void(StepReport&)>& after_backward,
+                          const Distillation& distillation) {
   optimizer.zero_grad();
   const TensorMap heads = model.forward_only(batch.images, kMovenetHeads);
   StepLosses losses = compute_losses(heads, batch);
+  if (distillation.teacher != nullptr && distillation.weight > 0) {
+    TensorMap teacher_heads;
+    {
+      torch::NoGradGuard no_grad;
+      teacher_heads = distillation.teacher->forward_only(batch.images, kMovenetHeads);
+    }
+    const Tensor l_distill = distillation_loss(heads, teacher_heads) * distillation.weight;
+    losses.total = losses.total + l_distill;
+    losses.parts.distill = l_distill.item<double>();
+    losses.parts.loss += losses.parts.distill;
+  }
   if (!std::isfinite(losses.parts.loss)) {
     throw Error("train: the loss became " + std::to_string(losses.parts.loss) + " at step " +
                     std::to_string(step_number) + "; lower --lr",

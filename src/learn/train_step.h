@@ -39,11 +39,22 @@ struct StepLosses {
 // The weighted CenterNet losses of the heads' outputs against the batch's targets.
 StepLosses compute_losses(const TensorMap& heads, const TrainBatch& batch);
 
+// --distill: the frozen start model and the weight of its soft targets (no teacher: off).
+struct Distillation {
+  GraphModule* teacher = nullptr;
+  double weight = 0;
+};
+
+// Binary KL divergence of the student's person-centre and keypoint heatmaps from the
+// teacher's, summed over cells and channels, averaged over the batch; 0 when they agree.
+torch::Tensor distillation_loss(const TensorMap& student, const TensorMap& teacher);
+
 // One step; throws Error (kFailure) naming `step_number` when the loss is not finite.
 // `after_backward`, when given, runs between backward and clipping with the loss parts (data
 // parallelism averages the gradients and the parts over the processes there).
 StepReport optimizer_step(GraphModule& model, torch::optim::Optimizer& optimizer,
                           const TrainBatch& batch, double clip_norm, int step_number,
-                          const std::function<void(StepReport&)>& after_backward = {});
+                          const std::function<void(StepReport&)>& after_backward = {},
+                          const Distillation& distillation = {});
 
 }  // namespace wheelpose::learn

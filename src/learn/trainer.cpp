@@ -76,6 +76,7 @@ void check(const TrainOptions& o) {
     bad("--people-size MIN:MAX needs 0 < MIN <= MAX");
   }
   if (o.pull_to_start < 0) bad("--pull-to-start must not be negative");
+  if (o.distill < 0) bad("--distill must not be negative");
   if (o.val_every < 1) bad("--val-every must be at least 1");
   if (o.world_size < 1) bad("--world-size must be at least 1");
   if (o.rank < 0 || o.rank >= o.world_size) bad("--rank must be in 0 … world size − 1");
@@ -269,6 +270,7 @@ std::string resume_key(const TrainOptions& o) {
   nlohmann::json extended = key;
   if (a.person_size_max > 0) extended["people_size"] = {a.person_size_min, a.person_size_max};
   if (o.pull_to_start > 0) extended["pull_to_start"] = o.pull_to_start;
+  if (o.distill > 0) extended["distill"] = o.distill;
   return extended.dump();
 }
 
@@ -308,6 +310,15 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
     }
   }
 
+  // --distill's teacher: the start, frozen, before any resume.
+  std::unique_ptr<GraphModule> teacher;
+  if (o.distill > 0) {
+    teacher = std::make_unique<GraphModule>(o.model_json);
+    if (o.init_weights) teacher->load(*o.init_weights);
+    for (const Tensor& p : teacher->parameters()) p.requires_grad_(false);
+  }
+  const Distillation distillation{teacher.get(), o.distill};
+
   ensure_directory(o.out_dir);
   const std::string key = resume_key(o);
   TrainResult result;
@@ -337,7 +348,8 @@ TrainResult train(const TrainOptions& o, const std::function<void(const StepRepo
       static_cast<torch::optim::AdamWOptions&>(optimizer.param_groups()[g].options())
           .lr(lr * group_scale[g]);
     }
-    StepReport report = optimizer_step(model, optimizer, batch, o.clip_norm, step + 1, average);
+    StepReport report =
+        optimizer_step(model, optimizer, batch, o.clip_norm, step + 1, average, distillation);
     if (o.pull_to_start > 0) pull_toward(groups, start_weights, lr, group_scale, o.pull_to_start);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

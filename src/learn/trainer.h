@@ -36,6 +36,12 @@ struct TrainOptions {
   // weights stay within about 1 / pull_to_start of where they began: what the pretrained model
   // knows of real people is kept while it learns wheelchair users.
   double pull_to_start = 0;
+  // > 0: distillation from the frozen start model (Learning without Forgetting, Li & Hoiem
+  // 2016): its person-centre and keypoint heatmaps on each training batch become soft targets
+  // beside the labels, weighted by this. Keeps the start's scores where the labels say nothing
+  // new (backgrounds, people unlike ours) — fine-tuning on renders otherwise lowers its
+  // confidence on real people. Costs one extra forward pass per step.
+  double distill = 0;
   int checkpoint_every = 100;
   int loader_threads = 1;  // batches prepared ahead, each on its own thread
   int threads = 0;         // torch intra-op threads; 0 = every core
@@ -62,7 +68,7 @@ struct StepReport {
   int step = 0;  // 1-based, steps done
   double learning_rate = 0;
   double loss = 0, centre = 0, keypoint_heatmap = 0, keypoint_regression = 0, keypoint_offset = 0,
-         box_scale = 0, box_offset = 0;
+         box_scale = 0, box_offset = 0, distill = 0;
   double images_per_second = 0;
 };
 

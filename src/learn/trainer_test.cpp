@@ -114,5 +114,36 @@ TEST(Trainer, FullPullToStartKeepsThePretrainedWeights) {
   fs::remove_all(dir);
 }
 
+// --distill: before the first update the student is its teacher, so step 1's distillation
+// term is 0 (to rounding); once the weights move it is positive, and it lands in train_log.csv.
+TEST(Trainer, DistillationStartsAtZeroAndGrows) {
+  const fs::path topology = multipose_topology();
+  if (!fs::exists(topology)) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
+  const fs::path dir = fs::temp_directory_path() / "wheelpose_trainer_distill_test";
+  const fs::path gt = write_skier_set(dir);
+  TrainOptions o;
+  o.train = {{gt, 1}};
+  o.model_json = topology;
+  o.out_dir = dir / "run";
+  o.steps = 3;
+  o.batch = 1;
+  o.learning_rate = 1e-3;
+  o.warmup_steps = 1;
+  o.threads = 2;
+  o.distill = 2;
+  o.augment.input_size = 128;
+  const TrainResult r = train(o);
+  ASSERT_EQ(r.steps.size(), 3u);
+  EXPECT_NEAR(r.steps[0].distill, 0.0, 1e-4);
+  EXPECT_GT(r.steps[2].distill, 1e-3);
+  const double parts = r.steps[2].centre + r.steps[2].keypoint_heatmap +
+                       r.steps[2].keypoint_regression + r.steps[2].keypoint_offset +
+                       r.steps[2].box_scale + r.steps[2].box_offset + r.steps[2].distill;
+  EXPECT_NEAR(r.steps[2].loss, parts, 1e-3 * parts);
+  const std::string log = read_file(o.out_dir / "train_log.csv");
+  EXPECT_NE(log.find(",distill,"), std::string::npos);
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace wheelpose::learn

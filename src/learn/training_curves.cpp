@@ -60,8 +60,8 @@ std::vector<double> smooth(const std::vector<double>& v, int window) {
 
 void draw_training_curves(const fs::path& run_dir) {
   // step, learning_rate, loss, centre, keypoint_heatmap, keypoint_regression, keypoint_offset,
-  // box_scale, box_offset, images_per_second
-  const auto train = read_columns(run_dir / "train_log.csv", 10);
+  // box_scale, box_offset, distill, images_per_second
+  const auto train = read_columns(run_dir / "train_log.csv", 11);
   const fs::path val_path = run_dir / "val_log.csv";
   std::vector<std::vector<double>> val;
   if (fs::exists(val_path)) val = read_columns(val_path, 6);
@@ -73,13 +73,17 @@ void draw_training_curves(const fs::path& run_dir) {
     int column, colour;
     const char* name;
   };
-  const Series series[] = {{2, 1, "total"},      {3, 2, "centre"},  {4, 3, "keypoint heatmaps"},
-                           {5, 4, "regression"}, {6, 6, "offsets"}, {7, 7, "box scale"},
-                           {8, 5, "box offset"}};
+  const Series series[] = {{2, 1, "total"},      {3, 2, "centre"},      {4, 3, "keypoint heatmaps"},
+                           {5, 4, "regression"}, {6, 6, "offsets"},     {7, 7, "box scale"},
+                           {8, 5, "box offset"}, {9, 8, "distillation"}};
+  // The distillation line only for runs that distil (its column is all zeros otherwise).
+  const bool distilled =
+      std::any_of(train[9].begin(), train[9].end(), [](double v) { return v != 0; });
+  const std::size_t shown = std::size(series) - (distilled ? 0 : 1);
   std::vector<std::vector<double>> smoothed;
   double top = 0;
-  for (const Series& s : series) {
-    smoothed.push_back(smooth(train[s.column], window));
+  for (std::size_t i = 0; i < shown; ++i) {
+    smoothed.push_back(smooth(train[series[i].column], window));
     for (double v : smoothed.back()) top = std::max(top, v);
   }
   const double last_step = std::max(1.0, steps.back());

@@ -1,0 +1,60 @@
+#include "learn/train_step.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace wheelpose::learn {
+namespace {
+
+// Heads shaped like the model's (B×G×G×C): only the two heatmaps take part in distillation.
+TensorMap heads_with(const torch::Tensor& centre, const torch::Tensor& keypoints) {
+  return {{kMovenetHeads[0], centre}, {kMovenetHeads[3], keypoints}};
+}
+
+// One cell, teacher probability 0.75 against a student at 0.5: KL = 0.75 ln 1.5 + 0.25 ln 0.5.
+TEST(Distillation, LossIsTheBinaryKlDivergence) {
+  const torch::Tensor teacher_logit = torch::full({1, 1, 1, 1}, std::log(3.0));
+  const torch::Tensor zero = torch::zeros({1, 1, 1, 1});
+  const torch::Tensor no_keypoints = torch::zeros({1, 1, 1, 17});
+  const double kl = 0.75 * std::log(1.5) + 0.25 * std::log(0.5);
+  const double got =
+      distillation_loss(heads_with(zero, no_keypoints), heads_with(teacher_logit, no_keypoints))
+          .item<double>();
+  EXPECT_NEAR(got, kl, 1e-6);
+}
+
+// Zero where student and teacher agree, positive elsewhere, averaged over the batch, and its
+// gradient moves the student's logits toward the teacher's.
+TEST(Distillation, VanishesAtAgreementAndPullsTowardTheTeacher) {
+  torch::manual_seed(3);
+  const torch::Tensor centre = torch::randn({2, 8, 8, 1}) * 3;
+  const torch::Tensor keypoints = torch::randn({2, 8, 8, 17}) * 3;
+  const TensorMap teacher = heads_with(centre, keypoints);
+  EXPECT_NEAR(distillation_loss(teacher, teacher).item<double>(), 0.0, 1e-4);
+
+  const torch::Tensor student_centre = centre.clone().add_(1.0).requires_grad_(true);
+  const torch::Tensor student_keypoints = keypoints.clone().requires_grad_(true);
+  const torch::Tensor loss =
+      distillation_loss(heads_with(student_centre, student_keypoints), teacher);
+  EXPECT_GT(loss.item<double>(), 0.01);
+  loss.backward();
+  // Every centre logit sits 1 above the teacher's: the gradient is positive everywhere.
+  EXPECT_GT(student_centre.grad().min().item<double>(), 0.0);
+  EXPECT_NEAR(student_keypoints.grad().abs().max().item<double>(), 0.0, 1e-6);
+
+  // A batch of the same image twice scores as the image once.
+  const TensorMap one = heads_with(centre.slice(0, 0, 1), keypoints.slice(0, 0, 1));
+  const TensorMap one_shifted = heads_with(centre.slice(0, 0, 1) + 1.0, keypoints.slice(0, 0, 1));
+  const TensorMap twice =
+      heads_with(torch::cat({centre.slice(0, 0, 1), centre.slice(0, 0, 1)}),
+                 torch::cat({keypoints.slice(0, 0, 1), keypoints.slice(0, 0, 1)}));
+  const TensorMap twice_shifted =
+      heads_with(torch::cat({centre.slice(0, 0, 1), centre.slice(0, 0, 1)}) + 1.0,
+                 torch::cat({keypoints.slice(0, 0, 1), keypoints.slice(0, 0, 1)}));
+  EXPECT_NEAR(distillation_loss(twice_shifted, twice).item<double>(),
+              distillation_loss(one_shifted, one).item<double>(), 1e-4);
+}
+
+}  // namespace
+}  // namespace wheelpose::learn
