@@ -54,7 +54,7 @@ TEST(BoostScript, QuickRunWritesTheComparison) {
   std::ofstream(real_boxes) << boxes.dump();
   const fs::path out = dir / "run";
   const std::string command =
-      "PULL=50 WISE=0.5 bash " + (source / "scripts" / "boost.sh").string() +
+      "PULL=50 DISTILL=0.5 WISE=0.5 bash " + (source / "scripts" / "boost.sh").string() +
       " --quick --recipe transfer --ablate --mix-standing --ranking " + ranking.string() +
       " --real " + real.string() + " --real " + real_boxes.string() + " " + out.string() + " > " +
       (dir / "log.txt").string() + " 2>&1";
@@ -103,6 +103,8 @@ TEST(BoostScript, QuickRunWritesTheComparison) {
   EXPECT_EQ(options["train"].size(), 3u);
   EXPECT_EQ(options["people_size"], nlohmann::json::parse("[30.0, 256.0]"));
   EXPECT_TRUE(options.contains("pull_to_start"));
+  EXPECT_EQ(options["distill"], 0.5);
+  EXPECT_NE(report.find("(--distill 0.5)"), std::string::npos) << report;
   // WISE: the scored weights are the blend, and the report says so.
   EXPECT_TRUE(fs::exists(out / "run" / "wise.pt"));
   EXPECT_NE(report.find("pretrained + 0.5 × (fine-tuned − pretrained)"), std::string::npos)

@@ -66,9 +66,10 @@ void run_train(TrainCommandOptions& c) {
         if (r.step % 10 == 0 || r.step == o.steps) {
           spdlog::info(
               "train: step {} loss {:.4f} (centre {:.3f}, heatmaps {:.3f}, regression {:.3f}, "
-              "offsets {:.3f}, box {:.3f}+{:.3f}), {:.1f} images/s",
+              "offsets {:.3f}, box {:.3f}+{:.3f}{}), {:.1f} images/s",
               r.step, r.loss, r.centre, r.keypoint_heatmap, r.keypoint_regression,
-              r.keypoint_offset, r.box_scale, r.box_offset, r.images_per_second);
+              r.keypoint_offset, r.box_scale, r.box_offset,
+              o.distill > 0 ? fmt::format(", distill {:.3f}", r.distill) : "", r.images_per_second);
         }
         progress(r.step, o.steps);
       },
