@@ -130,16 +130,19 @@ StepLosses compute_losses(const TensorMap& heads, const TrainBatch& b) {
   return out;
 }
 
-Tensor distillation_loss(const TensorMap& student, const TensorMap& teacher) {
+Tensor distillation_loss(const TensorMap& student, const TensorMap& teacher,
+                         const Tensor& centre_labels, const Tensor& keypoint_labels) {
   Tensor total = torch::zeros({});
-  for (const std::string& head : {kMovenetHeads[0], kMovenetHeads[3]}) {
+  const std::pair<const std::string&, const Tensor&> heads[] = {
+      {kMovenetHeads[0], centre_labels}, {kMovenetHeads[3], keypoint_labels}};
+  for (const auto& [head, labels] : heads) {
     const Tensor& s = student.at(head);
     const Tensor t = teacher.at(head).detach();
     const Tensor p = torch::sigmoid(t);
     // BCE(student, p) − BCE(teacher, p): the KL divergence, exactly 0 at agreement.
     const Tensor kl = torch::binary_cross_entropy_with_logits(s, p, {}, {}, at::Reduction::None) -
                       torch::binary_cross_entropy_with_logits(t, p, {}, {}, at::Reduction::None);
-    total = total + kl.sum() / static_cast<double>(s.size(0));
+    total = total + (kl * (1 - labels)).sum() / static_cast<double>(s.size(0));
   }
   return total;
 }
@@ -157,7 +160,9 @@ StepReport optimizer_step(GraphModule& model, torch::optim::Optimizer& optimizer
       torch::NoGradGuard no_grad;
       teacher_heads = distillation.teacher->forward_only(batch.images, kMovenetHeads);
     }
-    const Tensor l_distill = distillation_loss(heads, teacher_heads) * distillation.weight;
+    const Tensor l_distill =
+        distillation_loss(heads, teacher_heads, batch.centre_heatmap, batch.keypoint_heatmap) *
+        distillation.weight;
     losses.total = losses.total + l_distill;
     losses.parts.distill = l_distill.item<double>();
     losses.parts.loss += losses.parts.distill;

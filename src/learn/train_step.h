@@ -46,8 +46,12 @@ struct Distillation {
 };
 
 // Binary KL divergence of the student's person-centre and keypoint heatmaps from the
-// teacher's, summed over cells and channels, averaged over the batch; 0 when they agree.
-torch::Tensor distillation_loss(const TensorMap& student, const TensorMap& teacher);
+// teacher's, each cell weighted by 1 − its label heatmap value (the labels rule at the people
+// they mark, the teacher everywhere else), summed over cells and channels, averaged over the
+// batch; 0 when they agree.
+torch::Tensor distillation_loss(const TensorMap& student, const TensorMap& teacher,
+                                const torch::Tensor& centre_labels,
+                                const torch::Tensor& keypoint_labels);
 
 // One step; throws Error (kFailure) naming `step_number` when the loss is not finite.
 // `after_backward`, when given, runs between backward and clipping with the loss parts (data

@@ -18,10 +18,16 @@ TEST(Distillation, LossIsTheBinaryKlDivergence) {
   const torch::Tensor zero = torch::zeros({1, 1, 1, 1});
   const torch::Tensor no_keypoints = torch::zeros({1, 1, 1, 17});
   const double kl = 0.75 * std::log(1.5) + 0.25 * std::log(0.5);
-  const double got =
-      distillation_loss(heads_with(zero, no_keypoints), heads_with(teacher_logit, no_keypoints))
-          .item<double>();
-  EXPECT_NEAR(got, kl, 1e-6);
+  const TensorMap student = heads_with(zero, no_keypoints);
+  const TensorMap teacher = heads_with(teacher_logit, no_keypoints);
+  const auto loss_with_label = [&](double label) {
+    return distillation_loss(student, teacher, torch::full({1, 1, 1, 1}, label), no_keypoints)
+        .item<double>();
+  };
+  EXPECT_NEAR(loss_with_label(0), kl, 1e-6);
+  // A label heatmap of 0.25 there leaves three quarters of it; a labelled peak (1) none.
+  EXPECT_NEAR(loss_with_label(0.25), 0.75 * kl, 1e-6);
+  EXPECT_EQ(loss_with_label(1), 0.0);
 }
 
 // Zero where student and teacher agree, positive elsewhere, averaged over the batch, and its
@@ -31,12 +37,18 @@ TEST(Distillation, VanishesAtAgreementAndPullsTowardTheTeacher) {
   const torch::Tensor centre = torch::randn({2, 8, 8, 1}) * 3;
   const torch::Tensor keypoints = torch::randn({2, 8, 8, 17}) * 3;
   const TensorMap teacher = heads_with(centre, keypoints);
-  EXPECT_NEAR(distillation_loss(teacher, teacher).item<double>(), 0.0, 1e-4);
+  const torch::Tensor centre_labels = torch::zeros({2, 8, 8, 1});
+  const torch::Tensor keypoint_labels = torch::zeros({2, 8, 8, 17});
+  const auto loss_of = [](const TensorMap& a, const TensorMap& b) {
+    return distillation_loss(a, b, torch::zeros_like(b.at(kMovenetHeads[0])),
+                             torch::zeros_like(b.at(kMovenetHeads[3])));
+  };
+  EXPECT_NEAR(loss_of(teacher, teacher).item<double>(), 0.0, 1e-4);
 
   const torch::Tensor student_centre = centre.clone().add_(1.0).requires_grad_(true);
   const torch::Tensor student_keypoints = keypoints.clone().requires_grad_(true);
-  const torch::Tensor loss =
-      distillation_loss(heads_with(student_centre, student_keypoints), teacher);
+  const torch::Tensor loss = distillation_loss(heads_with(student_centre, student_keypoints),
+                                               teacher, centre_labels, keypoint_labels);
   EXPECT_GT(loss.item<double>(), 0.01);
   loss.backward();
   // Every centre logit sits 1 above the teacher's: the gradient is positive everywhere.
@@ -52,8 +64,8 @@ TEST(Distillation, VanishesAtAgreementAndPullsTowardTheTeacher) {
   const TensorMap twice_shifted =
       heads_with(torch::cat({centre.slice(0, 0, 1), centre.slice(0, 0, 1)}) + 1.0,
                  torch::cat({keypoints.slice(0, 0, 1), keypoints.slice(0, 0, 1)}));
-  EXPECT_NEAR(distillation_loss(twice_shifted, twice).item<double>(),
-              distillation_loss(one_shifted, one).item<double>(), 1e-4);
+  EXPECT_NEAR(loss_of(twice_shifted, twice).item<double>(),
+              loss_of(one_shifted, one).item<double>(), 1e-4);
 }
 
 }  // namespace

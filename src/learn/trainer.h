@@ -38,9 +38,8 @@ struct TrainOptions {
   double pull_to_start = 0;
   // > 0: distillation from the frozen start model (Learning without Forgetting, Li & Hoiem
   // 2016): its person-centre and keypoint heatmaps on each training batch become soft targets
-  // beside the labels, weighted by this. Keeps the start's scores where the labels say nothing
-  // new (backgrounds, people unlike ours) — fine-tuning on renders otherwise lowers its
-  // confidence on real people. Costs one extra forward pass per step.
+  // away from the labelled people (weighted by 1 − the label heatmaps), at this weight. Keeps
+  // the start's scores where the labels say nothing new. Costs one extra forward pass per step.
   double distill = 0;
   int checkpoint_every = 100;
   int loader_threads = 1;  // batches prepared ahead, each on its own thread

@@ -39,6 +39,21 @@ fs::path multipose_topology() {
   return fs::path(WHEELPOSE_SOURCE_DIR) / "models" / "movenet-multipose.json";
 }
 
+// A short run on the skier set: 128² inputs, lr 1e-3 from the first step, 2 threads.
+TrainOptions skier_run(const fs::path& gt, const fs::path& out_dir, int steps, int batch) {
+  TrainOptions o;
+  o.train = {{gt, 1}};
+  o.model_json = multipose_topology();
+  o.out_dir = out_dir;
+  o.steps = steps;
+  o.batch = batch;
+  o.learning_rate = 1e-3;
+  o.warmup_steps = 1;
+  o.threads = 2;
+  o.augment.input_size = 128;
+  return o;
+}
+
 // With every augmentation off, each step sees the same crop of the COCO sample's skier, so the
 // heads (backbone frozen) must fit it: the loss falls well below where it started.
 TEST(Trainer, LossFallsOnAFixedSample) {
@@ -47,17 +62,8 @@ TEST(Trainer, LossFallsOnAFixedSample) {
   const fs::path dir = fs::temp_directory_path() / "wheelpose_trainer_test";
   const fs::path gt = write_skier_set(dir);
 
-  TrainOptions o;
-  o.train = {{gt, 1}};
-  o.model_json = topology;
-  o.out_dir = dir / "run";
-  o.steps = 12;
-  o.batch = 2;
-  o.learning_rate = 1e-3;
-  o.warmup_steps = 1;
+  TrainOptions o = skier_run(gt, dir / "run", 12, 2);
   o.freeze_backbone_steps = 12;
-  o.checkpoint_every = 100;
-  o.threads = 2;
   o.augment = {.input_size = 128,
                .target_longer_side = 160,
                .scale_min = 1,
@@ -97,17 +103,8 @@ TEST(Trainer, FullPullToStartKeepsThePretrainedWeights) {
     return same;
   };
   for (const double pull : {0.0, 1e9}) {
-    TrainOptions o;
-    o.train = {{gt, 1}};
-    o.model_json = topology;
-    o.out_dir = dir / ("run-" + std::to_string(pull > 0));
-    o.steps = 2;
-    o.batch = 1;
-    o.learning_rate = 1e-3;
-    o.warmup_steps = 1;
-    o.threads = 2;
+    TrainOptions o = skier_run(gt, dir / ("run-" + std::to_string(pull > 0)), 2, 1);
     o.pull_to_start = pull;
-    o.augment.input_size = 128;
     train(o);
     EXPECT_EQ(same_as_pretrained(o.out_dir / "last.pt"), pull > 0) << "pull " << pull;
   }
@@ -121,17 +118,8 @@ TEST(Trainer, DistillationStartsAtZeroAndGrows) {
   if (!fs::exists(topology)) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
   const fs::path dir = fs::temp_directory_path() / "wheelpose_trainer_distill_test";
   const fs::path gt = write_skier_set(dir);
-  TrainOptions o;
-  o.train = {{gt, 1}};
-  o.model_json = topology;
-  o.out_dir = dir / "run";
-  o.steps = 3;
-  o.batch = 1;
-  o.learning_rate = 1e-3;
-  o.warmup_steps = 1;
-  o.threads = 2;
+  TrainOptions o = skier_run(gt, dir / "run", 3, 1);
   o.distill = 2;
-  o.augment.input_size = 128;
   const TrainResult r = train(o);
   ASSERT_EQ(r.steps.size(), 3u);
   EXPECT_NEAR(r.steps[0].distill, 0.0, 1e-4);
