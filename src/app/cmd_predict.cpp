@@ -25,6 +25,7 @@
 #include "core/image_files.h"
 #include "core/keypoint_template.h"
 #include "eval/eval_viz.h"
+#include "learn/model_ensemble.h"
 #include "learn/model_files.h"
 #include "learn/pose_predictor.h"
 #include "progress.h"
@@ -36,7 +37,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 struct PredictCommandOptions {
-  std::string model = "movenet-multipose";
+  std::vector<std::string> model = {"movenet-multipose"};  // several: an ensemble
   std::string models;
   std::string coco;
   std::string images;
@@ -98,7 +99,7 @@ void attach_boxes(const PredictCommandOptions& o, const std::optional<coco::Coco
       if (!a.iscrowd) boxes[a.image_id].push_back(a.bbox);
     }
   } else {
-    throw Error(o.model +
+    throw Error(o.model.front() +
                 " is a single-person model: give --coco (its person boxes are cropped) or "
                 "--detections");
   }
@@ -127,23 +128,36 @@ void run_predict(const PredictCommandOptions& o) {
   if (!o.viz.empty() && o.coco.empty()) throw Error("--viz needs --coco (the overlays draw GT)");
   std::optional<fs::path> models_dir;
   if (!o.models.empty()) models_dir = fs::path(o.models);
-  const learn::ModelChoice choice = learn::choose_model(o.model, models_dir);
-  const fs::path& model = choice.topology;
   std::optional<coco::CocoGroundTruth> gt;
   if (!o.coco.empty()) gt = coco::load_coco_gt(o.coco, 17, false);
   std::vector<ImageJob> jobs = list_images(o, gt);
   retain_large_blocks();  // multipose's per-image activations exceed 32 MiB at 512 px and above
-  const learn::PosePredictor predictor(model,
-                                       {.longer_sides = sizes,
-                                        .max_person_px = o.max_person_px,
-                                        .min_score = o.min_score,
-                                        .threads = o.threads},
-                                       choice.weights);
-  if (!predictor.multi_person()) attach_boxes(o, gt, jobs);
-  spdlog::info("predict: {} on {} images ({})", model.stem().string(), jobs.size(),
-               predictor.multi_person()
+  std::vector<std::unique_ptr<learn::PosePredictor>> predictors;
+  std::vector<std::string> names;
+  for (const std::string& name : o.model) {
+    const learn::ModelChoice choice = learn::choose_model(name, models_dir);
+    predictors.push_back(std::make_unique<learn::PosePredictor>(
+        choice.topology,
+        learn::PredictOptions{.longer_sides = sizes,
+                              .max_person_px = o.max_person_px,
+                              .min_score = o.min_score,
+                              .threads = o.threads},
+        choice.weights));
+    names.push_back(choice.weights ? choice.weights->filename().string()
+                                   : choice.topology.stem().string());
+    if (predictors.size() > 1 && !predictors.back()->multi_person()) {
+      throw Error("--model " + name + ": only multipose models make an ensemble");
+    }
+  }
+  const learn::PosePredictor& first = *predictors.front();
+  if (predictors.size() > 1 && !first.multi_person()) {
+    throw Error("--model " + o.model.front() + ": only multipose models make an ensemble");
+  }
+  if (!first.multi_person()) attach_boxes(o, gt, jobs);
+  spdlog::info("predict: {} on {} images ({})", fmt::join(names, " + "), jobs.size(),
+               first.multi_person()
                    ? "whole images, longer side " + fmt::format("{}", fmt::join(sizes, " and "))
-                   : std::to_string(predictor.crop_size()) + "² crops around person boxes");
+                   : std::to_string(first.crop_size()) + "² crops around person boxes");
 
   json results = json::array();
   Progress progress("predict", "images");
@@ -152,9 +166,16 @@ void run_predict(const PredictCommandOptions& o) {
   for (std::size_t i = 0; i < jobs.size(); ++i) {
     const cv::Mat rgb = next.get();
     if (i + 1 < jobs.size()) next = std::async(std::launch::async, read_rgb, jobs[i + 1].path);
-    const std::vector<learn::PosePrediction> people =
-        predictor.multi_person() ? predictor.predict_image(rgb)
-                                 : predictor.predict_boxes(rgb, jobs[i].boxes);
+    std::vector<learn::PosePrediction> people;
+    if (!first.multi_person()) {
+      people = first.predict_boxes(rgb, jobs[i].boxes);
+    } else if (predictors.size() == 1) {
+      people = first.predict_image(rgb);
+    } else {
+      std::vector<std::vector<learn::PosePrediction>> per_model;
+      for (const auto& predictor : predictors) per_model.push_back(predictor->predict_image(rgb));
+      people = learn::fuse_models(per_model, {});
+    }
     for (const learn::PosePrediction& p : people)
       results.push_back(learn::coco_result_json(jobs[i].id, p));
     progress(static_cast<std::int64_t>(i + 1), static_cast<std::int64_t>(jobs.size()));
@@ -184,7 +205,8 @@ void attach_predict(CLI::App& parent) {
   cmd->add_option(
          "--model", options->model,
          "movenet-multipose, movenet-lightning, movenet-thunder, a TF.js .json path, or a .pt "
-         "from wheelpose train")
+         "from wheelpose train; several (multipose) make an ensemble whose people are fused "
+         "(scores averaged, boxes and keypoints score-weighted)")
       ->capture_default_str();
   cmd->add_option("--models", options->models,
                   "Folder of the models (default: $WHEELPOSE_MODELS, ./models, the checkout's)");
