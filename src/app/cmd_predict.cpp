@@ -46,6 +46,7 @@ struct PredictCommandOptions {
   std::vector<int> sizes = {256, 640};
   double max_person_px = 192;
   double min_score = 0.05;
+  bool flip = false;
   int threads = 0;
   std::string viz;
   int viz_count = 8;
@@ -159,6 +160,8 @@ void run_predict(const PredictCommandOptions& o) {
                    ? "whole images, longer side " + fmt::format("{}", fmt::join(sizes, " and "))
                    : std::to_string(first.crop_size()) + "² crops around person boxes");
 
+  if (o.flip && !first.multi_person()) throw Error("--flip: only for multipose models");
+  const KeypointTemplate coco17 = load_keypoint_template("coco17");
   json results = json::array();
   Progress progress("predict", "images");
   // The next image decodes on another thread while the model runs on this one.
@@ -169,12 +172,20 @@ void run_predict(const PredictCommandOptions& o) {
     std::vector<learn::PosePrediction> people;
     if (!first.multi_person()) {
       people = first.predict_boxes(rgb, jobs[i].boxes);
-    } else if (predictors.size() == 1) {
+    } else if (predictors.size() == 1 && !o.flip) {
       people = first.predict_image(rgb);
     } else {
-      std::vector<std::vector<learn::PosePrediction>> per_model;
-      for (const auto& predictor : predictors) per_model.push_back(predictor->predict_image(rgb));
-      people = learn::fuse_models(per_model, {});
+      cv::Mat mirrored;
+      if (o.flip) cv::flip(rgb, mirrored, 1);
+      std::vector<std::vector<learn::PosePrediction>> views;
+      for (const auto& predictor : predictors) {
+        views.push_back(predictor->predict_image(rgb));
+        if (!o.flip) continue;
+        std::vector<learn::PosePrediction>& back = views.emplace_back();
+        for (const learn::PosePrediction& p : predictor->predict_image(mirrored))
+          back.push_back(learn::mirror_prediction(p, rgb.cols, coco17.flip_pairs));
+      }
+      people = learn::fuse_models(views, {});
     }
     for (const learn::PosePrediction& p : people)
       results.push_back(learn::coco_result_json(jobs[i].id, p));
@@ -184,9 +195,8 @@ void run_predict(const PredictCommandOptions& o) {
   spdlog::info("predict: {} people in {} images -> {}", results.size(), jobs.size(), o.out);
 
   if (!o.viz.empty()) {
-    const KeypointTemplate t = load_keypoint_template("coco17");
-    const coco::CocoResults ours = coco::load_coco_results(o.out, *gt, t.size());
-    const auto written = eval::write_overlays(*gt, ours, nullptr, t,
+    const coco::CocoResults ours = coco::load_coco_results(o.out, *gt, coco17.size());
+    const auto written = eval::write_overlays(*gt, ours, nullptr, coco17,
                                               {.count = o.viz_count,
                                                .pick = o.viz_pick,
                                                .images_dir = o.images,
@@ -230,6 +240,9 @@ void attach_predict(CLI::App& parent) {
   cmd->add_option("--min-score", options->min_score, "Multipose: drop people scoring less")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
+  cmd->add_flag("--flip", options->flip,
+                "Multipose: also run each model on the mirrored image and fuse the two views "
+                "like an ensemble's (test-time flip)");
   cmd->add_option("--threads", options->threads, "Threads (0 = every core)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--viz", options->viz, "Write overlays of GT and predictions into this folder");

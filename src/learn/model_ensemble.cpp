@@ -105,4 +105,15 @@ std::vector<PosePrediction> fuse_models(const std::vector<std::vector<PosePredic
   return fused;
 }
 
+PosePrediction mirror_prediction(const PosePrediction& person, double image_width,
+                                 const std::vector<std::pair<int, int>>& flip_pairs) {
+  PosePrediction out = person;
+  out.bbox.x = image_width - person.bbox.x - person.bbox.w;
+  for (std::size_t k = 0; k < 17; ++k) out.keypoints[3 * k] = image_width - person.keypoints[3 * k];
+  for (const auto& [a, b] : flip_pairs) {
+    for (int c = 0; c < 3; ++c) std::swap(out.keypoints[3 * a + c], out.keypoints[3 * b + c]);
+  }
+  return out;
+}
+
 }  // namespace wheelpose::learn

@@ -11,8 +11,10 @@
 //   box       = score-weighted mean of the members' boxes
 //   keypoint  = mean of the members' positions weighted by score × keypoint score, and
 //               Σ_m weight_m × keypoint score_m as its score
-// Torch-free.
+// `predict --flip` adds each model's view of the mirrored image as one more member
+// (`mirror_prediction` maps it back), the test-time flip of pose estimation. Torch-free.
 
+#include <utility>
 #include <vector>
 
 #include "learn/pose_predictor.h"
@@ -28,5 +30,11 @@ struct EnsembleOptions {
 // first (ties: the order the groups were made in). Throws Error for weights of the wrong count.
 std::vector<PosePrediction> fuse_models(const std::vector<std::vector<PosePrediction>>& per_model,
                                         const EnsembleOptions& options);
+
+// A person found in the left-right mirror of an image `image_width` pixels wide, in the image's
+// own coordinates: x → image_width − x (continuous pixel coordinates), the box mirrored, and
+// each pair of `flip_pairs` (0-based COCO-17 indices, e.g. left and right wrist) swapped.
+PosePrediction mirror_prediction(const PosePrediction& person, double image_width,
+                                 const std::vector<std::pair<int, int>>& flip_pairs);
 
 }  // namespace wheelpose::learn

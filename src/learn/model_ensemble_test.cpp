@@ -84,5 +84,28 @@ TEST(ModelEnsemble, OneModelIsItselfAndWrongWeightsAreAnError) {
   EXPECT_THROW(fuse_models({one, one}, {.weights = {1.0}}), Error);
 }
 
+TEST(ModelEnsemble, AMirroredPersonComesBackWithSidesSwapped) {
+  PosePrediction p = person(10, 5, 30, 90, 0.7);
+  p.keypoints[3 * 1] = 12;  // left eye
+  p.keypoints[3 * 1 + 2] = 0.9;
+  p.keypoints[3 * 2] = 20;  // right eye
+  p.keypoints[3 * 2 + 2] = 0.2;
+  const std::vector<std::pair<int, int>> pairs = {{1, 2}};
+  const PosePrediction m = mirror_prediction(p, 100, pairs);
+  EXPECT_DOUBLE_EQ(m.bbox.x, 60.0);  // [10, 40) mirrors to [60, 90)
+  EXPECT_DOUBLE_EQ(m.bbox.w, 30.0);
+  EXPECT_DOUBLE_EQ(m.bbox.y, 5.0);
+  EXPECT_DOUBLE_EQ(m.keypoints[3 * 1], 80.0);  // the right eye at 20 becomes the left at 80
+  EXPECT_DOUBLE_EQ(m.keypoints[3 * 1 + 2], 0.2);
+  EXPECT_DOUBLE_EQ(m.keypoints[3 * 2], 88.0);
+  EXPECT_DOUBLE_EQ(m.keypoints[3 * 0], 100.0);  // the nose at x 0
+  EXPECT_DOUBLE_EQ(m.score, 0.7);
+  // Mirroring twice is the identity.
+  const PosePrediction back = mirror_prediction(m, 100, pairs);
+  for (std::size_t i = 0; i < p.keypoints.size(); ++i)
+    EXPECT_DOUBLE_EQ(back.keypoints[i], p.keypoints[i]);
+  EXPECT_DOUBLE_EQ(back.bbox.x, p.bbox.x);
+}
+
 }  // namespace
 }  // namespace wheelpose::learn
