@@ -35,7 +35,10 @@
 # RECIPE_STANDING_WEIGHT, PEOPLE_SIZE, PULL; WISE (0..1, default 1): score the weight-space blend
 # pretrained + WISE × (fine-tuned − pretrained) (`wheelpose model blend`) instead of best.pt;
 # DISTILL (default 0): with any recipe, soft targets from the frozen pretrained model's heatmaps
-# at this weight (train --distill).
+# at this weight (train --distill); ENSEMBLE=1: score the pretrained and the fine-tuned model
+# together (predict --model movenet-multipose --model FINE-TUNED: their people fused) in place
+# of the fine-tuned model alone; FLIP=1: score both columns with predict --flip (each model
+# also sees the mirrored image).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 wp="$root/build/release/wheelpose"
@@ -102,6 +105,16 @@ freeze=${FREEZE:-0}
 people_size=${PEOPLE_SIZE:-30:256}
 pull=${PULL:-0}
 distill=${DISTILL:-0}
+ensemble=${ENSEMBLE:-0}
+flip=${FLIP:-0}
+[[ $ensemble == [01] && $flip == [01] ]] || { echo "boost: ENSEMBLE and FLIP take 0 or 1" >&2; exit 2; }
+# FLIP scores both columns mirrored too; their files are kept apart from unflipped ones.
+flip_args=() base_tag=""
+if [[ $flip == 1 ]]; then flip_args=(--flip) base_tag="-flip"; fi
+if [[ $flip == 1 ]] && ((ablate || mix_standing)); then
+  echo "boost: --ablate and --mix-standing score unmirrored: run them without FLIP=1" >&2
+  exit 2
+fi
 recipe_standing_weight=${RECIPE_STANDING_WEIGHT:-0.5}
 
 # The training clips: configs/boost-train-clips.json, or those of them a review ranking keeps.
@@ -206,10 +219,11 @@ test_held=$(jq '[.annotations[] | select(.wheelchair_type == "sport" or .mobilit
 
 test_gt="$out/test/annotations.json"
 test_images="$out/test/images"
-if [[ ! -f "$out/baseline.json" ]]; then
+baseline="$out/baseline$base_tag.json"
+if [[ ! -f $baseline ]]; then
   log "scoring the pretrained model"
-  timed predict_baseline "$wp" -q predict --coco "$test_gt" --images "$test_images" \
-    --out "$out/baseline.json"
+  timed predict_baseline "$wp" -q predict "${flip_args[@]}" --coco "$test_gt" \
+    --images "$test_images" --out "$baseline"
 fi
 
 train_sources=(--train "$out/train/annotations.json")
@@ -250,19 +264,26 @@ if [[ $wise != 1 ]]; then
   scored_model="$out/run/wise.pt"
   recipe_note+="; the scored weights are pretrained + $wise × (fine-tuned − pretrained) (model blend)"
 fi
-log "scoring the fine-tuned model (best.pt: step $(jq .step "$out/run/best.json"), alpha $wise)"
-timed predict_finetuned "$wp" -q predict --model "$scored_model" --coco "$test_gt" \
+scored=(--model "$scored_model" "${flip_args[@]}")
+if [[ $ensemble == 1 ]]; then
+  scored=(--model movenet-multipose "${scored[@]}")
+  recipe_note+="; scored as an ensemble with the pretrained model (predict --model movenet-multipose --model FINE-TUNED)"
+fi
+[[ $flip == 1 ]] && recipe_note+="; both columns scored with predict --flip (each model also sees the mirrored image)"
+log "scoring the fine-tuned model (best.pt: step $(jq .step "$out/run/best.json"), alpha $wise, ensemble $ensemble, flip $flip)"
+timed predict_finetuned "$wp" -q predict "${scored[@]}" --coco "$test_gt" \
   --images "$test_images" --out "$out/finetuned.json"
 # People without wheelchairs: the generated standing people and, with --real, the user's own.
 # Box-only ground truth (no labelled keypoint, e.g. `coco import-yolo` of real photos) is scored
 # for boxes alone.
 eval_type() { jq -e 'any(.annotations[]; (.num_keypoints // 0) > 0)' "$1" >/dev/null && echo both || echo bbox; }
 score_both() {  # score_both NAME GT IMAGES: OUT/NAME-{baseline,finetuned}.json and OUT/NAME-eval
-  [[ -f "$out/$1-baseline.json" ]] || timed "predict_baseline_$1" "$wp" -q predict --coco "$2" \
-    --images "$3" --out "$out/$1-baseline.json"
-  timed "predict_finetuned_$1" "$wp" -q predict --model "$scored_model" --coco "$2" \
+  local base="$out/$1-baseline$base_tag.json"
+  [[ -f $base ]] || timed "predict_baseline_$1" "$wp" -q predict "${flip_args[@]}" --coco "$2" \
+    --images "$3" --out "$base"
+  timed "predict_finetuned_$1" "$wp" -q predict "${scored[@]}" --coco "$2" \
     --images "$3" --out "$out/$1-finetuned.json"
-  "$wp" -q eval --gt "$2" --dt "$out/$1-finetuned.json" --baseline "$out/$1-baseline.json" \
+  "$wp" -q eval --gt "$2" --dt "$out/$1-finetuned.json" --baseline "$base" \
     --type "$(eval_type "$2")" --out "$out/$1-eval" >/dev/null
 }
 log "scoring both models on the realistic test set and on people without wheelchairs"
@@ -279,9 +300,9 @@ if ((mix_standing)); then "$root/scripts/standing-mix.sh" "$out"; fi
 
 # The same test images before (red) and after (green) fine-tuning, over white GT: evenly spread
 # ones, and those where the fine-tuned model does worst.
-"$wp" -q eval --gt "$test_gt" --dt "$out/finetuned.json" --baseline "$out/baseline.json" \
+"$wp" -q eval --gt "$test_gt" --dt "$out/finetuned.json" --baseline "$baseline" \
   --type both --out "$out/eval" --viz 6 --images "$test_images" >/dev/null
-"$wp" -q eval --gt "$test_gt" --dt "$out/finetuned.json" --baseline "$out/baseline.json" \
+"$wp" -q eval --gt "$test_gt" --dt "$out/finetuned.json" --baseline "$baseline" \
   --type both --out "$out/eval-worst" --viz 4 --viz-pick worst --images "$test_images" >/dev/null
 
 # The paper's Table 4 layout: baseline and fine-tuned side by side, AP in points.

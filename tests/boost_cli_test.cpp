@@ -54,7 +54,7 @@ TEST(BoostScript, QuickRunWritesTheComparison) {
   std::ofstream(real_boxes) << boxes.dump();
   const fs::path out = dir / "run";
   const std::string command =
-      "PULL=50 DISTILL=0.5 WISE=0.5 bash " + (source / "scripts" / "boost.sh").string() +
+      "PULL=50 DISTILL=0.5 WISE=0.5 ENSEMBLE=1 bash " + (source / "scripts" / "boost.sh").string() +
       " --quick --recipe transfer --ablate --mix-standing --ranking " + ranking.string() +
       " --real " + real.string() + " --real " + real_boxes.string() + " " + out.string() + " > " +
       (dir / "log.txt").string() + " 2>&1";
@@ -75,6 +75,7 @@ TEST(BoostScript, QuickRunWritesTheComparison) {
   EXPECT_NE(report.find("| Model | KP AP | KP AP50 |"), std::string::npos) << report;
   EXPECT_TRUE(fs::exists(out / "run" / "last.pt"));
   EXPECT_TRUE(fs::exists(out / "run" / "best.pt"));
+  const std::string train_log = read_text(out / "run" / "train_log.csv");
   EXPECT_TRUE(fs::exists(out / "run" / "curves.png"));
   const std::string html = read_text(out / "report.html");
   EXPECT_NE(html.find("<img src=\"run/curves.png\">"), std::string::npos) << html;
@@ -119,6 +120,24 @@ TEST(BoostScript, QuickRunWritesTheComparison) {
        {"test-finetuned-standing-mix.json", "standing-finetuned-standing-mix.json"})
     EXPECT_TRUE(fs::exists(out / scored)) << scored;
   EXPECT_EQ(count_of(report, "| fine-tuned, standing mixed in | "), 2u) << report;
+  // ENSEMBLE: the fine-tuned column is the pretrained and the fine-tuned model together.
+  EXPECT_NE(report.find("scored as an ensemble with the pretrained model"), std::string::npos)
+      << report;
+
+  // Scored again with FLIP=1: training resumes as done, both columns are scored mirrored too
+  // into their own files, and the report says so.
+  const std::string again = "PULL=50 DISTILL=0.5 WISE=0.5 ENSEMBLE=1 FLIP=1 bash " +
+                            (source / "scripts" / "boost.sh").string() +
+                            " --quick --recipe transfer --ranking " + ranking.string() +
+                            " --real " + real.string() + " " + out.string() + " > " +
+                            (dir / "log2.txt").string() + " 2>&1";
+  ASSERT_EQ(std::system(again.c_str()), 0) << read_text(dir / "log2.txt");
+  for (const char* scored : {"baseline-flip.json", "standing-baseline-flip.json",
+                             "test-realistic-baseline-flip.json", "real-gt-baseline-flip.json"})
+    EXPECT_TRUE(fs::exists(out / scored)) << scored;
+  const std::string flipped = read_text(out / "report.md");
+  EXPECT_NE(flipped.find("both columns scored with predict --flip"), std::string::npos) << flipped;
+  EXPECT_EQ(read_text(out / "run" / "train_log.csv"), train_log) << "training ran again";
 }
 
 }  // namespace

@@ -92,6 +92,42 @@ TEST(PredictCli, TheDefaultMergesTheSmallAndTheLargeInput) {
   EXPECT_NE(r.output.find("different sizes"), std::string::npos) << r.output;
 }
 
+TEST(PredictCli, AnEnsembleFusesItsModelsAndTheFlipItsViews) {
+  if (!have_models()) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
+  const auto dir = fresh_temp_dir("predict_ensemble");
+  const fs::path gt = wheelpose::testing::write_coco_sample_gt(dir, false);
+  auto run = [&](const std::string& args, const std::string& name) {
+    const fs::path out = dir / name;
+    const auto r = run_wheelpose("predict --size 256 --coco " + gt.string() + " --images " +
+                                 sample_dir().string() + " --out " + out.string() + args);
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return out;
+  };
+  // A model in an ensemble with itself is that model: every person pairs with its twin.
+  const json one = json::parse(read_text(run("", "one.json")));
+  const json twice = json::parse(
+      read_text(run(" --model movenet-multipose --model movenet-multipose", "twice.json")));
+  ASSERT_EQ(one.size(), twice.size());
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    EXPECT_NEAR(one[i]["score"].get<double>(), twice[i]["score"].get<double>(), 1e-4) << i;
+    for (int k = 0; k < 4; ++k)
+      EXPECT_NEAR(one[i]["bbox"][k].get<double>(), twice[i]["bbox"][k].get<double>(), 0.011);
+    for (int k = 0; k < 51; ++k)
+      EXPECT_NEAR(one[i]["keypoints"][k].get<double>(), twice[i]["keypoints"][k].get<double>(),
+                  0.011);
+  }
+  // The mirrored view moves the results, and the skier is still found as well.
+  const fs::path flipped = run(" --flip", "flip.json");
+  EXPECT_NE(json::parse(read_text(flipped)), one);
+  const auto r =
+      run_wheelpose("eval --gt " + gt.string() + " --dt " + flipped.string() + " --type keypoints");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string line = "IoU=0.50:0.95 | area=   all | maxDets= 20 ] = ";
+  const auto at = r.output.find(line);
+  ASSERT_NE(at, std::string::npos) << r.output;
+  EXPECT_GE(std::stod(r.output.substr(at + line.size(), 5)), 0.8) << r.output;
+}
+
 TEST(PredictCli, BadInputGivesOneLineAndNoResultsFile) {
   if (!have_models()) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
   const auto dir = fresh_temp_dir("predict_bad");
@@ -109,6 +145,11 @@ TEST(PredictCli, BadInputGivesOneLineAndNoResultsFile) {
       {"--images " + (dir / "broken").string() + " --model movenet-giant", "unknown model"},
       {"--images " + (dir / "broken").string() + " --model movenet-thunder",
        "is a single-person model"},
+      {"--images " + (dir / "broken").string() +
+           " --model movenet-multipose --model movenet-thunder",
+       "--model movenet-thunder: only multipose models make an ensemble"},
+      {"--images " + (dir / "broken").string() + " --model movenet-lightning --flip",
+       "--flip: movenet-lightning is a single-person model"},
   };
   for (const Case& c : cases) {
     const auto r = run_wheelpose("predict " + c.args + " --out " + out.string());

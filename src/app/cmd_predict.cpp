@@ -154,13 +154,15 @@ void run_predict(const PredictCommandOptions& o) {
   if (predictors.size() > 1 && !first.multi_person()) {
     throw Error("--model " + o.model.front() + ": only multipose models make an ensemble");
   }
+  if (o.flip && !first.multi_person()) {
+    throw Error("--flip: " + o.model.front() + " is a single-person model (multipose only)");
+  }
   if (!first.multi_person()) attach_boxes(o, gt, jobs);
   spdlog::info("predict: {} on {} images ({})", fmt::join(names, " + "), jobs.size(),
                first.multi_person()
                    ? "whole images, longer side " + fmt::format("{}", fmt::join(sizes, " and "))
                    : std::to_string(first.crop_size()) + "² crops around person boxes");
 
-  if (o.flip && !first.multi_person()) throw Error("--flip: only for multipose models");
   const KeypointTemplate coco17 = load_keypoint_template("coco17");
   json results = json::array();
   Progress progress("predict", "images");
