@@ -38,7 +38,8 @@
 # at this weight (train --distill); ENSEMBLE=1: score the pretrained and the fine-tuned model
 # together (predict --model movenet-multipose --model FINE-TUNED: their people fused) in place
 # of the fine-tuned model alone; FLIP=1: score both columns with predict --flip (each model
-# also sees the mirrored image).
+# also sees the mirrored image); REAL_SIZE=S: score the --real photos at predict --size S (256:
+# their best single size) instead of predict's default input.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 wp="$root/build/release/wheelpose"
@@ -70,7 +71,7 @@ while (($#)); do
       ranking=$2
       shift
       ;;
-    -h|--help) sed -n '2,41p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,42p' "$0"; exit 0 ;;
     -*) echo "boost: unknown option $1 (see --help)" >&2; exit 2 ;;
     *) out="$1" ;;
   esac
@@ -111,6 +112,12 @@ flip=${FLIP:-0}
 # FLIP scores both columns mirrored too; their files are kept apart from unflipped ones.
 flip_args=() base_tag=""
 if [[ $flip == 1 ]]; then flip_args=(--flip) base_tag="-flip"; fi
+real_size=${REAL_SIZE:-}
+real_args=() real_tag=""
+if [[ -n $real_size ]]; then
+  [[ $real_size =~ ^[1-9][0-9]*$ ]] || { echo "boost: REAL_SIZE takes a size such as 256" >&2; exit 2; }
+  real_args=(--size "$real_size") real_tag="-$real_size"
+fi
 if [[ $flip == 1 ]] && ((ablate || mix_standing)); then
   echo "boost: --ablate and --mix-standing score unmirrored: run them without FLIP=1" >&2
   exit 2
@@ -277,11 +284,12 @@ timed predict_finetuned "$wp" -q predict "${scored[@]}" --coco "$test_gt" \
 # Box-only ground truth (no labelled keypoint, e.g. `coco import-yolo` of real photos) is scored
 # for boxes alone.
 eval_type() { jq -e 'any(.annotations[]; (.num_keypoints // 0) > 0)' "$1" >/dev/null && echo both || echo bbox; }
-score_both() {  # score_both NAME GT IMAGES: OUT/NAME-{baseline,finetuned}.json and OUT/NAME-eval
-  local base="$out/$1-baseline$base_tag.json"
-  [[ -f $base ]] || timed "predict_baseline_$1" "$wp" -q predict "${flip_args[@]}" --coco "$2" \
-    --images "$3" --out "$base"
-  timed "predict_finetuned_$1" "$wp" -q predict "${scored[@]}" --coco "$2" \
+score_both() {  # score_both NAME GT IMAGES [PREDICT ARGS] [TAG]: OUT/NAME-{baseline,finetuned}.json, OUT/NAME-eval
+  local base="$out/$1-baseline$base_tag${5:-}.json" extra=()
+  [[ -n ${4:-} ]] && read -r -a extra <<<"$4"
+  [[ -f $base ]] || timed "predict_baseline_$1" "$wp" -q predict "${flip_args[@]}" "${extra[@]}" \
+    --coco "$2" --images "$3" --out "$base"
+  timed "predict_finetuned_$1" "$wp" -q predict "${scored[@]}" "${extra[@]}" --coco "$2" \
     --images "$3" --out "$out/$1-finetuned.json"
   "$wp" -q eval --gt "$2" --dt "$out/$1-finetuned.json" --baseline "$base" \
     --type "$(eval_type "$2")" --out "$out/$1-eval" >/dev/null
@@ -293,7 +301,7 @@ for name in "${!real_names[@]}"; do
   real=${real_names[$name]}
   real_images="$(dirname "$real")/images"
   [[ -d $real_images ]] || real_images="$(dirname "$real")"
-  score_both "$name" "$real" "$real_images"
+  score_both "$name" "$real" "$real_images" "${real_args[*]}" "$real_tag"
 done
 if ((ablate)); then "$root/scripts/ablate.sh" "$out"; fi
 if ((mix_standing)); then "$root/scripts/standing-mix.sh" "$out"; fi
@@ -359,7 +367,7 @@ last_loss=$(awk -F, 'NR>1 {n++; if (n > 0) v[n]=$3} END {s=0; k=0; for (i=n; i>n
     echo
     echo "Real people ($name): $(count "$real" images) images," \
       "$(jq '[.annotations[] | select(.iscrowd == 0)] | length' "$real") people of $real" \
-      "($(jq -r '.info.description // "no description"' "$real"))."
+      "($(jq -r '.info.description // "no description"' "$real"))${real_size:+, both columns at predict --size $real_size}."
     echo
     table4 "$out/$name-eval"
   done

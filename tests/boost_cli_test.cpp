@@ -124,19 +124,20 @@ TEST(BoostScript, QuickRunWritesTheComparison) {
   EXPECT_NE(report.find("scored as an ensemble with the pretrained model"), std::string::npos)
       << report;
 
-  // Scored again with FLIP=1: training resumes as done, both columns are scored mirrored too
-  // into their own files, and the report says so.
-  const std::string again = "PULL=50 DISTILL=0.5 WISE=0.5 ENSEMBLE=1 FLIP=1 bash " +
+  // Scored again with FLIP=1 and the real photos at 256: training resumes as done, both columns
+  // are scored mirrored too into their own files, and the report says so.
+  const std::string again = "PULL=50 DISTILL=0.5 WISE=0.5 ENSEMBLE=1 FLIP=1 REAL_SIZE=256 bash " +
                             (source / "scripts" / "boost.sh").string() +
                             " --quick --recipe transfer --ranking " + ranking.string() +
                             " --real " + real.string() + " " + out.string() + " > " +
                             (dir / "log2.txt").string() + " 2>&1";
   ASSERT_EQ(std::system(again.c_str()), 0) << read_text(dir / "log2.txt");
   for (const char* scored : {"baseline-flip.json", "standing-baseline-flip.json",
-                             "test-realistic-baseline-flip.json", "real-gt-baseline-flip.json"})
+                             "test-realistic-baseline-flip.json", "real-gt-baseline-flip-256.json"})
     EXPECT_TRUE(fs::exists(out / scored)) << scored;
   const std::string flipped = read_text(out / "report.md");
   EXPECT_NE(flipped.find("both columns scored with predict --flip"), std::string::npos) << flipped;
+  EXPECT_NE(flipped.find("both columns at predict --size 256"), std::string::npos) << flipped;
   EXPECT_EQ(read_text(out / "run" / "train_log.csv"), train_log) << "training ran again";
 }
 

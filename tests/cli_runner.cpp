@@ -90,4 +90,10 @@ std::filesystem::path write_coco_sample_gt(const std::filesystem::path& dir, boo
   return dir / "gt.json";
 }
 
+double printed_ap(const std::string& eval_output) {
+  const std::string line = "IoU=0.50:0.95 | area=   all | maxDets= 20 ] = ";
+  const auto at = eval_output.find(line);
+  return at == std::string::npos ? -1.0 : std::stod(eval_output.substr(at + line.size(), 5));
+}
+
 }  // namespace wheelpose::testing

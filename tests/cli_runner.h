@@ -40,4 +40,8 @@ std::filesystem::path coco_sample_dir();
 // `copy_image` the image is copied into `dir` too, so `dir` is a dataset on its own.
 std::filesystem::path write_coco_sample_gt(const std::filesystem::path& dir, bool copy_image);
 
+// The AP of the first "IoU=0.50:0.95 | area=   all | maxDets= 20" line of `wheelpose eval`'s
+// printed summary (keypoint AP); -1 when the output has none.
+double printed_ap(const std::string& eval_output);
+
 }  // namespace wheelpose::testing

@@ -45,6 +45,10 @@ TEST(DemoCli, MissingPiecesAreNamedBeforeServing) {
   r = run_wheelpose("demo --port 0 --wheelchair " + (dir / "noshard.json").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("gone.bin: no such file"), std::string::npos) << r.output;
+  // The ensemble's member is checked the same way.
+  r = run_wheelpose("demo --port 0 --ensemble " + (dir / "plain.json").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("plain.json: not a TF.js graph model"), std::string::npos) << r.output;
 }
 
 }  // namespace

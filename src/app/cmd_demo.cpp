@@ -1,5 +1,5 @@
-// `wheelpose demo`: the pretrained and the wheelchair model side by side on a dropped photo,
-// run in the browser by TF.js (review/demo_server.h).
+// `wheelpose demo`: the pretrained and the wheelchair model side by side on a dropped photo, and
+// the real-photo ensemble, run in the browser by TF.js (review/demo_server.h).
 
 #include <CLI/CLI.hpp>
 #include <filesystem>
@@ -19,6 +19,7 @@ struct DemoCommandOptions {
   review::DemoOptions server;
   std::string pretrained = "movenet-multipose";
   std::string wheelchair = "movenet-wheelchair";
+  std::string ensemble = "movenet-wheelchair-full";
   std::string models;
   std::string web;
   std::string examples;
@@ -29,6 +30,7 @@ void run_demo(DemoCommandOptions o) {
   if (!o.models.empty()) models_dir = fs::path(o.models);
   o.server.pretrained_topology = learn::resolve_model(o.pretrained, models_dir);
   o.server.wheelchair_topology = learn::resolve_model(o.wheelchair, models_dir);
+  o.server.ensemble_topology = learn::resolve_model(o.ensemble, models_dir);
   o.server.web_dir = o.web;            // empty: the checkout's web/demo
   o.server.examples_dir = o.examples;  // empty: WEB/examples
   review::serve_demo(o.server);
@@ -41,7 +43,7 @@ void attach_demo(CLI::App& parent) {
   CLI::App* cmd = parent.add_subcommand(
       "demo",
       "Serve a local page: drop a photo, see the pretrained and the wheelchair model side by "
-      "side (run in the browser by TF.js)");
+      "side and the real-photo ensemble (run in the browser by TF.js)");
   cmd->add_option("--port", options->server.port, "Port (0 picks a free one)")
       ->check(CLI::Range(0, 65535))
       ->capture_default_str();
@@ -49,7 +51,11 @@ void attach_demo(CLI::App& parent) {
   cmd->add_option("--pretrained", options->pretrained, "Left model (a name or a TF.js .json)")
       ->capture_default_str();
   cmd->add_option("--wheelchair", options->wheelchair,
-                  "Right model (a name or a TF.js .json, e.g. from wheelpose model export)")
+                  "Middle model (a name or a TF.js .json, e.g. from wheelpose model export)")
+      ->capture_default_str();
+  cmd->add_option("--ensemble", options->ensemble,
+                  "The model fused with the pretrained one in the right panel, both also on the "
+                  "mirror image (predict --model PRETRAINED --model THIS --flip)")
       ->capture_default_str();
   cmd->add_option("--models", options->models,
                   "Folder of the models (default: $WHEELPOSE_MODELS, ./models, the checkout's)");

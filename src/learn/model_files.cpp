@@ -30,7 +30,7 @@ const std::vector<std::string>& known_model_names() {
 }
 
 const std::vector<std::string>& shipped_model_names() {
-  static const std::vector<std::string> names = {"movenet-wheelchair"};
+  static const std::vector<std::string> names = {"movenet-wheelchair", "movenet-wheelchair-full"};
   return names;
 }
 

@@ -84,6 +84,7 @@ void serve_demo(DemoOptions options) {
   }
   mount_model(http, "/models/pretrained", options.pretrained_topology);
   mount_model(http, "/models/wheelchair", options.wheelchair_topology);
+  mount_model(http, "/models/ensemble", options.ensemble_topology);
   std::vector<std::string> examples;
   for (const fs::path& file : image_files_in(options.examples_dir)) {
     examples.push_back(file.filename().string());
@@ -93,7 +94,8 @@ void serve_demo(DemoOptions options) {
       json{{"examples", examples},
            {"models",
             {{{"key", "pretrained"}, {"name", display_name(options.pretrained_topology)}},
-             {{"key", "wheelchair"}, {"name", display_name(options.wheelchair_topology)}}}}}
+             {{"key", "wheelchair"}, {"name", display_name(options.wheelchair_topology)}},
+             {{"key", "ensemble"}, {"name", display_name(options.ensemble_topology)}}}}}
           .dump();
   http.Get("/api/config", [config](const httplib::Request&, httplib::Response& res) {
     res.set_content(config, "application/json");
@@ -103,9 +105,10 @@ void serve_demo(DemoOptions options) {
     throw Error(options.web_dir.string() + ": cannot serve this folder", ErrorKind::kFailure);
   }
   const std::string url = bind_server(http, options.bind, options.port);
-  std::printf("demo: pretrained %s, wheelchair %s\nlistening on %s\n",
+  std::printf("demo: pretrained %s, wheelchair %s, ensemble member %s\nlistening on %s\n",
               options.pretrained_topology.string().c_str(),
-              options.wheelchair_topology.string().c_str(), url.c_str());
+              options.wheelchair_topology.string().c_str(),
+              options.ensemble_topology.string().c_str(), url.c_str());
   std::fflush(stdout);
   listen_until_signal(http, signals);
 }

@@ -1,7 +1,8 @@
-// Real-browser end-to-end test of the demo page (`wheelpose demo`): Debian's chromium loads both
-// models with TF.js, runs them on a bundled example picked by keyboard, and must draw the people
-// `wheelpose predict --size 256` finds, keypoints within a few pixels; a dropped non-image gets
-// a message. Saves a screenshot.
+// Real-browser end-to-end test of the demo page (`wheelpose demo`): Debian's chromium loads the
+// three models with TF.js, runs them on a bundled example picked by keyboard, and must draw the
+// people `wheelpose predict --size 256` finds (the ensemble panel: `predict --model
+// movenet-multipose --model movenet-wheelchair-full --flip`), keypoints within a pixel; a
+// dropped non-image gets a message. Saves a screenshot.
 // Usage: node demo_e2e.mjs <wheelpose binary> <repo root> [screenshot.png]
 import { startServer, launchBrowser } from './harness.mjs';
 import { execFileSync } from 'node:child_process';
@@ -14,16 +15,19 @@ const [binary, repo, screenshot] = process.argv.slice(2);
 assert.ok(binary && repo, 'usage: node demo_e2e.mjs <wheelpose> <repo> [screenshot.png]');
 const work = fs.mkdtempSync(path.join(os.tmpdir(), 'wheelpose-demo-browser-'));
 const example = 'wheelchair-1.jpg';
-const wheelchairModel = path.join(repo, 'share', 'models', 'movenet-wheelchair', 'model.json');
+const shipped = (name) => path.join(repo, 'share', 'models', name, 'model.json');
 
 // What `predict` finds on the example with each model, at the page's input size.
 fs.mkdirSync(path.join(work, 'images'));
 fs.copyFileSync(path.join(repo, 'web', 'demo', 'examples', example), path.join(work, 'images', example));
 const expected = {};
-for (const [key, model] of [['pretrained', 'movenet-multipose'], ['wheelchair', wheelchairModel]]) {
+for (const [key, models] of [['pretrained', ['movenet-multipose']],
+  ['wheelchair', [shipped('movenet-wheelchair')]],
+  ['ensemble', ['movenet-multipose', shipped('movenet-wheelchair-full')]]]) {
   const out = path.join(work, key + '.json');
-  execFileSync(binary, ['-q', 'predict', '--model', model, '--images', path.join(work, 'images'),
-    '--size', '256', '--out', out]);
+  const flip = key === 'ensemble' ? ['--flip'] : [];
+  execFileSync(binary, ['-q', 'predict', ...models.flatMap((m) => ['--model', m]), ...flip,
+    '--images', path.join(work, 'images'), '--size', '256', '--out', out]);
   expected[key] = JSON.parse(fs.readFileSync(out, 'utf8'));
 }
 
@@ -60,7 +64,7 @@ try {
 
   // Every person the page draws (score >= 0.2) is one `predict` found: same score within 0.03,
   // confident keypoints within 1 px (the page resizes like OpenCV).
-  for (const key of ['pretrained', 'wheelchair']) {
+  for (const key of ['pretrained', 'wheelchair', 'ensemble']) {
     const page_people = results[key];
     const strong = expected[key].filter((p) => p.score >= 0.25);
     assert.ok(strong.length >= 1, `${key}: predict finds nobody on ${example}`);

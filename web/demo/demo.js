@@ -1,14 +1,19 @@
-// The demo page: both models (TF.js graph models served by `wheelpose demo`) on one image. The
+// The demo page: the models (TF.js graph models served by `wheelpose demo`) on one image. The
 // input is prepared like `wheelpose predict --size 256`: the image scaled so its longer side is
 // 256, padded right and bottom to multiples of 32; MoveNet MultiPose's output (1×6×56: 17 ×
 // (y, x, score), box ymin, xmin, ymax, xmax, score, fractions of the input) mapped back to image
-// pixels. Every text shown is set as text (textContent), never parsed as HTML.
+// pixels. The right panel is the real-photo ensemble, fused like `predict --model
+// movenet-multipose --model movenet-wheelchair-full --flip` (src/learn/model_ensemble.h). Every
+// text shown is set as text (textContent), never parsed as HTML.
 'use strict';
 
 const LONGER_SIDE = 256;
 const KEYPOINT_MIN_SCORE = 0.3;  // keypoints drawn
 const EDGES = [[0, 1], [0, 2], [1, 3], [2, 4], [5, 6], [5, 7], [7, 9], [6, 8], [8, 10], [5, 11],
   [6, 12], [11, 12], [11, 13], [13, 15], [12, 14], [14, 16]];
+// Left/right keypoint pairs of COCO-17, swapped when a mirrored view is mapped back.
+const FLIP_PAIRS = [[1, 2], [3, 4], [5, 6], [7, 8], [9, 10], [11, 12], [13, 14], [15, 16]];
+const PREDICT_MIN_SCORE = 0.05;  // predict's --min-score: each ensemble view keeps these
 const COLOURS = ['#e6194b', '#3cb44b', '#4363d8', '#f58231', '#911eb4', '#42d4f4'];
 
 // What the page did, for people and for the browser test.
@@ -64,7 +69,8 @@ function areaResize(rgba, sw, sh, dw, dh, out, outW) {
   }
 }
 
-// The letterboxed input: {tensor, scale, inputW, inputH, w, h}.
+// The letterboxed input and that of the mirror image (the resize is symmetric, so mirroring the
+// resized rows is mirroring the image): {tensor, mirrored, scale, inputW, inputH, w, h}.
 function letterbox(image) {
   const w = image.naturalWidth || image.width, h = image.naturalHeight || image.height;
   const scale = LONGER_SIDE / Math.max(w, h);
@@ -90,7 +96,72 @@ function letterbox(image) {
       }
     }
   }
-  return { tensor: tf.tensor4d(rgb, [1, inputH, inputW, 3], 'int32'), scale, inputW, inputH, w, h };
+  const mirror = new Int32Array(inputW * inputH * 3);
+  for (let y = 0; y < rh; ++y) {
+    for (let x = 0; x < rw; ++x) {
+      const i = (y * inputW + x) * 3, o = (y * inputW + rw - 1 - x) * 3;
+      mirror[o] = rgb[i];
+      mirror[o + 1] = rgb[i + 1];
+      mirror[o + 2] = rgb[i + 2];
+    }
+  }
+  return {
+    tensor: tf.tensor4d(rgb, [1, inputH, inputW, 3], 'int32'),
+    mirrored: tf.tensor4d(mirror, [1, inputH, inputW, 3], 'int32'),
+    scale, inputW, inputH, w, h,
+  };
+}
+
+// A person found in the mirror image, in the image's own coordinates (x → w − x, sides swapped).
+function unmirror(person, w) {
+  const keypoints = person.keypoints.map(([x, y, s]) => [w - x, y, s]);
+  for (const [a, b] of FLIP_PAIRS) [keypoints[a], keypoints[b]] = [keypoints[b], keypoints[a]];
+  const [x, y, bw, bh] = person.bbox;
+  return { score: person.score, keypoints, bbox: [w - x - bw, y, bw, bh] };
+}
+
+function iou(a, b) {
+  const iw = Math.max(0, Math.min(a[0] + a[2], b[0] + b[2]) - Math.max(a[0], b[0]));
+  const ih = Math.max(0, Math.min(a[1] + a[3], b[1] + b[3]) - Math.max(a[1], b[1]));
+  const union = a[2] * a[3] + b[2] * b[3] - iw * ih;
+  return union > 0 ? iw * ih / union : 0;
+}
+
+// Several views' people fused into one list, as `predict` does (weighted boxes fusion): highest
+// score first, each joins the first group whose leader overlaps it by IoU >= 0.5 and holds no
+// one of its view; a group's score is the mean over the views (a view without it adds 0), its
+// box the score-weighted mean, its keypoints weighted by score × keypoint score.
+function fuse(views) {
+  const everyone = [];
+  views.forEach((people, view) => people.forEach((person) => everyone.push({ view, person })));
+  everyone.sort((a, b) => b.person.score - a.person.score);  // stable: earlier views first
+  const groups = [];
+  for (const member of everyone) {
+    const group = groups.find((g) => !g.some((m) => m.view === member.view) &&
+      iou(member.person.bbox, g[0].person.bbox) >= 0.5);
+    if (group) group.push(member); else groups.push([member]);
+  }
+  const share = 1 / views.length;
+  const fused = groups.map((group) => {
+    const people = group.map((m) => m.person);
+    const lead = people[0];
+    const boxWeight = people.reduce((t, p) => t + p.score, 0);
+    const bbox = [0, 1, 2, 3].map((i) => boxWeight > 0
+      ? people.reduce((t, p) => t + p.score * p.bbox[i], 0) / boxWeight : lead.bbox[i]);
+    const keypoints = lead.keypoints.map((_, k) => {
+      let x = 0, y = 0, weight = 0, score = 0;
+      for (const p of people) {
+        const w = p.score * p.keypoints[k][2];
+        x += w * p.keypoints[k][0];
+        y += w * p.keypoints[k][1];
+        weight += w;
+        score += share * p.keypoints[k][2];
+      }
+      return weight > 0 ? [x / weight, y / weight, score] : [lead.keypoints[k][0], lead.keypoints[k][1], score];
+    });
+    return { score: people.reduce((t, p) => t + share * p.score, 0), keypoints, bbox };
+  });
+  return fused.sort((a, b) => b.score - a.score);
 }
 
 // MultiPose's output to people in image pixels, the model's order, those scoring minScore+.
@@ -158,35 +229,48 @@ function draw(key, image, people) {
   }
 }
 
-async function runBoth(image, name) {
+async function run(model, input) {
+  const out = model.execute({ [model.inputs[0].name]: input }, 'Identity:0');
+  const values = await out.data();
+  out.dispose();
+  return values;
+}
+
+async function runAll(image, name) {
   if (!window.demoState.ready) return;
   window.demoState.busy = true;
-  setStatus(`Running both models on ${name}…`);
+  setStatus(`Running the models on ${name}…`);
   const minScore = Math.min(1, Math.max(0, Number($('min-score').value) || 0));
   const box = letterbox(image);
   const results = {};
   try {
-    for (const key of Object.keys(models)) {
-      const model = models[key];
-      const out = model.execute({ [model.inputs[0].name]: box.tensor }, 'Identity:0');
-      const values = await out.data();
-      out.dispose();
-      results[key] = decode(values, box, minScore);
+    const plain = {};
+    for (const key of ['pretrained', 'wheelchair']) {
+      plain[key] = await run(models[key], box.tensor);
+      results[key] = decode(plain[key], box, minScore);
       draw(key, image, results[key]);
     }
+    // The ensemble: the pretrained model and its partner, each on the image and on its mirror.
+    const views = [decode(plain.pretrained, box, PREDICT_MIN_SCORE),
+      decode(await run(models.pretrained, box.mirrored), box, PREDICT_MIN_SCORE).map((p) => unmirror(p, box.w)),
+      decode(await run(models.ensemble, box.tensor), box, PREDICT_MIN_SCORE),
+      decode(await run(models.ensemble, box.mirrored), box, PREDICT_MIN_SCORE).map((p) => unmirror(p, box.w))];
+    results.ensemble = fuse(views).filter((p) => p.score >= minScore);
+    draw('ensemble', image, results.ensemble);
   } finally {
     box.tensor.dispose();
+    box.mirrored.dispose();
     window.demoState.busy = false;
   }
   window.demoState.image = name;
   window.demoState.results = results;
   const count = (key) => results[key].length;
-  setStatus(`${name}: pretrained found ${count('pretrained')}, wheelchair model ${count('wheelchair')} (score ≥ ${minScore}).`);
+  setStatus(`${name}: pretrained found ${count('pretrained')}, wheelchair model ${count('wheelchair')}, ensemble ${count('ensemble')} (score ≥ ${minScore}).`);
 }
 
 function loadImage(url, name) {
   const image = new Image();
-  image.onload = () => runBoth(image, name).catch((e) => setStatus(`Could not run the models: ${e.message}`, true));
+  image.onload = () => runAll(image, name).catch((e) => setStatus(`Could not run the models: ${e.message}`, true));
   image.onerror = () => setStatus(`“${name}” could not be read as an image.`, true);
   image.src = url;
 }
@@ -214,7 +298,7 @@ async function init() {
   }
   await tf.setBackend('cpu');
   await tf.ready();
-  for (const key of ['pretrained', 'wheelchair']) {
+  for (const key of ['pretrained', 'wheelchair', 'ensemble']) {
     models[key] = await tf.loadGraphModel(`/models/${key}/model.json`);
   }
   window.demoState.ready = true;
