@@ -284,9 +284,8 @@ timed predict_finetuned "$wp" -q predict "${scored[@]}" --coco "$test_gt" \
 # Box-only ground truth (no labelled keypoint, e.g. `coco import-yolo` of real photos) is scored
 # for boxes alone.
 eval_type() { jq -e 'any(.annotations[]; (.num_keypoints // 0) > 0)' "$1" >/dev/null && echo both || echo bbox; }
-score_both() {  # score_both NAME GT IMAGES [PREDICT ARGS] [TAG]: OUT/NAME-{baseline,finetuned}.json, OUT/NAME-eval
-  local base="$out/$1-baseline$base_tag${5:-}.json" extra=()
-  [[ -n ${4:-} ]] && read -r -a extra <<<"$4"
+score_both() {  # score_both NAME GT IMAGES [TAG [PREDICT ARGS...]]: OUT/NAME-{baseline,finetuned}.json, OUT/NAME-eval
+  local base="$out/$1-baseline$base_tag${4:-}.json" extra=("${@:5}")
   [[ -f $base ]] || timed "predict_baseline_$1" "$wp" -q predict "${flip_args[@]}" "${extra[@]}" \
     --coco "$2" --images "$3" --out "$base"
   timed "predict_finetuned_$1" "$wp" -q predict "${scored[@]}" "${extra[@]}" --coco "$2" \
@@ -301,7 +300,7 @@ for name in "${!real_names[@]}"; do
   real=${real_names[$name]}
   real_images="$(dirname "$real")/images"
   [[ -d $real_images ]] || real_images="$(dirname "$real")"
-  score_both "$name" "$real" "$real_images" "${real_args[*]}" "$real_tag"
+  score_both "$name" "$real" "$real_images" "$real_tag" "${real_args[@]}"
 done
 if ((ablate)); then "$root/scripts/ablate.sh" "$out"; fi
 if ((mix_standing)); then "$root/scripts/standing-mix.sh" "$out"; fi
