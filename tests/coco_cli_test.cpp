@@ -442,6 +442,12 @@ TEST(CocoImportYolo, BoxesScoreWithEvalAndBadLabelsAreRefused) {
        label + ":1: class 3 is not in the class mapping"},
       {"1 0.5 1.2 0.2 0.4\n", "1=person", label + ":1: value 3 (1.2) is outside [0, 1]"},
       {"1 0.5 0.5 0.2 0.4\n", "1=persons", "--classes: '1=persons' is not CLASS=ROLE"},
+      {"1 0.5 0.5 0.2 0.4\n", "1=person,", "--classes: '1=person,' has an empty item"},
+      {"1.0 0.5 0.5 0.2 0.4\n", "1=person", label + ":1: class '1.0' is not a whole number"},
+      {"1 0.5 0.5 1e-320 0.4\n", "1=person",
+       label + ":1: the box has no area in the 200x100 image (w 1e-320, h 0.4)"},
+      {std::string("1 0.5 0.5 0.2 0.4\0\n", 19), "1=person",
+       label + ":1: '0.4\\x00' is not a number"},
   };
   for (const auto& c : cases) {
     write(dir / "labels" / "p.txt", c.text);
@@ -457,6 +463,25 @@ TEST(CocoImportYolo, BoxesScoreWithEvalAndBadLabelsAreRefused) {
   EXPECT_NE(r.output.find((dir / "labels" / "q.txt").string() + ": no image q."), std::string::npos)
       << r.output;
   EXPECT_FALSE(fs::exists(gt));
+  fs::remove(dir / "labels" / "q.txt");
+
+  // One rule with predict: an empty image folder is an error.
+  fs::create_directories(dir / "none");
+  r = run_wheelpose("coco import-yolo --images " + (dir / "none").string() +
+                    " --classes 1=person --out " + gt.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("none: no images"), std::string::npos) << r.output;
+  // An --out that is a folder, or in a folder that does not exist: exit 2 naming it, before work.
+  r = run_wheelpose("coco import-yolo --images " + (dir / "images").string() + " --labels " +
+                    (dir / "labels").string() + " --classes 1=person --out " + dir.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find(dir.string() + ": is a directory"), std::string::npos) << r.output;
+  r = run_wheelpose("coco import-yolo --images " + (dir / "images").string() + " --labels " +
+                    (dir / "labels").string() + " --classes 1=person --out " +
+                    (dir / "nowhere" / "gt.json").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("nowhere/gt.json: cannot create"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find(".tmp-"), std::string::npos) << r.output;
 }
 
 }  // namespace

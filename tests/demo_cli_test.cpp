@@ -8,6 +8,7 @@
 #include <string>
 
 #include "cli_runner.h"
+#include "http_probe.h"
 
 namespace {
 
@@ -49,6 +50,19 @@ TEST(DemoCli, MissingPiecesAreNamedBeforeServing) {
   r = run_wheelpose("demo --port 0 --ensemble " + (dir / "plain.json").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("plain.json: not a TF.js graph model"), std::string::npos) << r.output;
+}
+
+// The demo server on loopback: slow clients do not block a visitor, malformed requests get 400.
+TEST(DemoCli, SlowOrMalformedClientsDoNotStallTheServer) {
+  if (!fs::exists(fs::path(WHEELPOSE_SOURCE_DIR) / "models" / "movenet-multipose.json") ||
+      !fs::exists(fs::path(WHEELPOSE_SOURCE_DIR) / "web" / "demo" / "node_modules")) {
+    GTEST_SKIP() << "MoveNet models or the demo's npm runtime missing: run scripts/setup.sh";
+  }
+  const auto dir = fresh_temp_dir("demo_slow");
+  const int port = wheelpose::testing::free_port();
+  wheelpose::testing::ChildServer server;
+  server.start({"demo", "--port", std::to_string(port)}, dir / "demo.log");
+  wheelpose::testing::expect_slow_and_malformed_clients_refused(port, "/index.html", 16);
 }
 
 }  // namespace

@@ -108,4 +108,65 @@ TEST(ModelCli, BadInputGetsOneLineAndNoFiles) {
   EXPECT_FALSE(fs::exists(dir / "b.pt"));
 }
 
+// Damaged model files never give results: a .pt whose bytes changed (its ZIP CRC fails), a
+// TF.js shard of random bytes, a folder where a file belongs; and numbers that are not numbers.
+TEST(ModelCli, DamagedModelsAndBadNumbersAreRefused) {
+  if (!have_models()) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
+  const auto dir = fresh_temp_dir("model_damaged");
+  const fs::path gt = wheelpose::testing::write_coco_sample_gt(dir, false);
+  auto r = run_wheelpose("model blend --finetuned movenet-multipose --alpha 0 --out " +
+                         (dir / "good.pt").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::string bytes = read_text(dir / "good.pt");
+  ASSERT_GT(bytes.size(), 1000000u);
+  bytes.replace(bytes.size() / 2, 8, "\x7f\xff\xff\xff\x7f\xff\xff\xff", 8);
+  std::ofstream(dir / "damaged.pt", std::ios::binary) << bytes;
+
+  fs::create_directories(dir / "folder.pt");
+  std::string shard(
+      fs::file_size(fs::path(WHEELPOSE_SOURCE_DIR) / "models" / "movenet-multipose.bin"), '\0');
+  std::uint32_t state = 12345;
+  for (char& c : shard) {
+    state = state * 1664525u + 1013904223u;
+    c = static_cast<char>(state >> 24);
+  }
+  fs::copy_file(fs::path(WHEELPOSE_SOURCE_DIR) / "models" / "movenet-multipose.json",
+                dir / "movenet-multipose.json");
+  std::ofstream(dir / "movenet-multipose.bin", std::ios::binary) << shard;
+
+  struct Case {
+    std::string args, says, out;
+  } cases[] = {
+      {predict_args(gt, (dir / "damaged.pt").string(), dir / "p.json"),
+       "damaged.pt: damaged weights file: entry", "p.json"},
+      {"model export " + (dir / "damaged.pt").string() + " --out " + (dir / "e").string(),
+       "fails its CRC-32 checksum", "e"},
+      {"model blend --finetuned " + (dir / "damaged.pt").string() + " --out " +
+           (dir / "b.pt").string(),
+       "damaged.pt: damaged weights file", "b.pt"},
+      {predict_args(gt, (dir / "folder.pt").string(), dir / "p.json"),
+       "folder.pt: a folder, not a weights file", "p.json"},
+      {predict_args(gt, (dir / "movenet-multipose.json").string(), dir / "p.json"),
+       "holds NaN or infinity (a damaged shard?)", "p.json"},
+      {"model blend --finetuned movenet-multipose --alpha abc --out " + (dir / "b.pt").string(),
+       "'abc' is not a number", "b.pt"},
+      {"model blend --finetuned movenet-multipose --alpha 1.5 --out " + (dir / "b.pt").string(),
+       "1.5 is outside [0, 1]", "b.pt"},
+      {"model blend --finetuned movenet-multipose --alpha-for center_=0.5x --out " +
+           (dir / "b.pt").string(),
+       "'center_=0.5x' is not PART=ALPHA with ALPHA a number in [0, 1]", "b.pt"},
+      {"model blend --finetuned movenet-multipose --out " + dir.string(),
+       dir.string() + ": is a directory, not a file to write", ""},
+  };
+  for (const Case& c : cases) {
+    r = run_wheelpose(c.args);
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.says), std::string::npos) << c.args << "\n" << r.output;
+    EXPECT_LT(r.output.find(c.says), r.output.find('\n')) << "on the first line: " << r.output;
+    if (!c.out.empty()) {
+      EXPECT_FALSE(fs::exists(dir / c.out)) << c.args;
+    }
+  }
+}
+
 }  // namespace

@@ -2,6 +2,7 @@
 // by `wheelpose eval`, and bad input that leaves no results file behind.
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -9,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
+#include <thread>
 
 #include "cli_runner.h"
 
@@ -67,6 +69,18 @@ TEST(PredictCli, AFolderWithoutACocoFileWorksForMultipose) {
   const json results = json::parse(read_text(dir / "out.json"));
   ASSERT_GE(results.size(), 1u);
   EXPECT_EQ(results[0]["image_id"], 1);
+
+  // A FIFO as --out (as a pipe or /dev/stdout would be) is written through, never replaced.
+  const fs::path fifo = dir / "results.fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::string piped;
+  std::thread reader([&] { piped = read_text(fifo); });
+  const auto p = run_wheelpose("predict --images " + (dir / "images").string() + " --out " +
+                               fifo.string() + " --size 256");
+  reader.join();
+  EXPECT_EQ(p.exit_code, 0) << p.output;
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_EQ(json::parse(piped), results);
 }
 
 TEST(PredictCli, TheDefaultMergesTheSmallAndTheLargeInput) {
@@ -131,13 +145,29 @@ TEST(PredictCli, BadInputGivesOneLineAndNoResultsFile) {
   fs::create_directories(dir / "broken");
   std::ofstream(dir / "broken" / "x.jpg") << "not a jpeg";
   const fs::path out = dir / "out.json";
+  fs::create_directories(dir / "cut");
+  const std::string jpeg = read_text(sample_dir() / "000000000785.jpg");
+  std::ofstream(dir / "cut" / "a.jpg", std::ios::binary) << jpeg.substr(0, 3000);
+  std::ofstream(dir / "empty.json").close();
+  const fs::path gt = wheelpose::testing::write_coco_sample_gt(dir, /*copy_image=*/false);
   struct Case {
     std::string args, says;
   } cases[] = {
       {"--images " + (dir / "empty").string(), "no images to predict on"},
-      {"--images " + (dir / "broken").string(), "cannot read or decode the image"},
+      {"--images " + (dir / "cut").string() + " --coco " + (dir / "empty.json").string(),
+       "empty.json: empty file, not JSON"},
+      {"--images " + (dir / "cut").string() + " --coco " + gt.string(),
+       "cut/000000000785.jpg: no such image file"},
+      {"--images " + (dir / "cut").string(),
+       "cut/a.jpg: truncated JPEG (it ends before its end-of-image marker)"},
+      {"--images " + (dir / "cut").string() + " --size 4096",
+       "4096 is not a multiple of 32 from 32 to 1280"},
+      {"--images " + (dir / "cut").string() + " --size ''",
+       "'' is not a whole number (a multiple of 32 from 32 to 1280)"},
+      {"--images " + (dir / "cut").string() + " --min-score abc", "'abc' is not a number"},
+      {"--images " + (dir / "broken").string(), "x.jpg: cannot decode the image"},
       {"--images " + (dir / "broken").string() + " --size 100",
-       "must be a positive multiple of 32"},
+       "100 is not a multiple of 32 from 32 to 1280"},
       {"--images " + (dir / "broken").string() + " --model movenet-giant", "unknown model"},
       {"--images " + (dir / "broken").string() + " --model movenet-thunder",
        "is a single-person model"},
@@ -152,7 +182,15 @@ TEST(PredictCli, BadInputGivesOneLineAndNoResultsFile) {
     EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.output;
     EXPECT_NE(r.output.find(c.says), std::string::npos) << c.args << "\n" << r.output;
     EXPECT_FALSE(fs::exists(out)) << c.args;
+    EXPECT_EQ(r.output.find("[ WARN"), std::string::npos) << "OpenCV's own warning: " << r.output;
   }
+  // An --out that is a folder: exit 2 naming it, and the folder untouched.
+  const auto r = run_wheelpose("predict --images " + (dir / "cut").string() + " --out " +
+                               (dir / "empty").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find((dir / "empty").string() + ": is a directory"), std::string::npos)
+      << r.output;
+  EXPECT_TRUE(fs::is_directory(dir / "empty"));
 }
 
 }  // namespace

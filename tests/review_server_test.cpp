@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "cli_runner.h"
+#include "http_probe.h"
 #include "motion/clip_json.h"
 #include "review/store.h"
 
@@ -27,6 +28,7 @@ namespace wheelpose {
 namespace {
 
 using nlohmann::json;
+using testing::free_port;
 using testing::fresh_temp_dir;
 using testing::read_text;
 
@@ -64,73 +66,25 @@ std::vector<std::string> make_clips(const std::filesystem::path& dir, int per_gr
   return ids;
 }
 
-int free_port() {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in addr{};
-  addr.sin_family = AF_INET;
-  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ::bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr);
-  socklen_t len = sizeof addr;
-  ::getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len);
-  ::close(fd);
-  return ntohs(addr.sin_port);
-}
-
-// `wheelpose review serve` as a child process; its output goes to a log file.
+// `wheelpose review serve` as a child process; each start logs to a file of its own.
 class ServerProcess {
  public:
   ServerProcess(const std::filesystem::path& dir, int port) : dir_(dir), port_(port) {}
-  ~ServerProcess() { stop(SIGTERM); }
 
   void start() {
-    const std::filesystem::path log = dir_ / ("serve" + std::to_string(starts_++) + ".log");
-    std::vector<std::string> args = {WHEELPOSE_BINARY,
-                                     "review",
-                                     "serve",
-                                     "--clips",
-                                     (dir_ / "g1").string(),
-                                     (dir_ / "g2").string(),
-                                     "--db",
-                                     (dir_ / "review.sqlite").string(),
-                                     "--port",
-                                     std::to_string(port_)};
-    pid_ = ::fork();
-    if (pid_ == 0) {
-      const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      ::dup2(fd, 1);
-      ::dup2(fd, 2);
-      std::vector<char*> argv;
-      for (auto& a : args) argv.push_back(a.data());
-      argv.push_back(nullptr);
-      ::execv(argv[0], argv.data());
-      ::_exit(127);
-    }
-    for (int i = 0; i < 200; ++i) {
-      const std::string text = read_text(log);
-      if (text.find("listening on") != std::string::npos) {
-        output_ = text;
-        return;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(25));
-    }
-    FAIL() << "server did not start: " << read_text(log);
+    child_.start({"review", "serve", "--clips", (dir_ / "g1").string(), (dir_ / "g2").string(),
+                  "--db", (dir_ / "review.sqlite").string(), "--port", std::to_string(port_)},
+                 dir_ / ("serve" + std::to_string(starts_++) + ".log"));
   }
-  void stop(int sig) {
-    if (pid_ <= 0) return;
-    ::kill(pid_, sig);
-    int status = 0;
-    ::waitpid(pid_, &status, 0);
-    pid_ = -1;
-  }
-  const std::string& output() const { return output_; }
+  void stop(int sig) { child_.stop(sig); }
+  const std::string& output() const { return child_.output(); }
   int port() const { return port_; }
 
  private:
   std::filesystem::path dir_;
   int port_;
-  pid_t pid_ = -1;
   int starts_ = 0;
-  std::string output_;
+  testing::ChildServer child_;
 };
 
 httplib::Headers auth(const std::string& token) { return {{"Authorization", "Bearer " + token}}; }
@@ -368,6 +322,16 @@ TEST_F(ReviewServerTest, LoadWithKillAndRestartLosesNoAcknowledgedAnswer) {
   }
   std::printf("load: %d answers in %.1f s (%d retries across the restart)\n",
               kParticipants * kAnswers, seconds, retries.load());
+}
+
+TEST_F(ReviewServerTest, SlowOrMalformedClientsDoNotStallIt) {
+  make_clips(dir_, 1);
+  ServerProcess server(dir_, free_port());
+  server.start();
+  testing::expect_slow_and_malformed_clients_refused(server.port(), "/", 16);
+  // Still serving afterwards.
+  httplib::Client c("127.0.0.1", server.port());
+  EXPECT_EQ(c.Get("/api/session")->status, 401);
 }
 
 }  // namespace

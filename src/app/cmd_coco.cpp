@@ -154,6 +154,7 @@ void run_viz(const CocoOptions& o) {
 }
 
 void run_import_yolo(const CocoOptions& o) {
+  check_output_file(o.out);
   const dataset::YoloImportOptions options{.images_dir = o.images,
                                            .labels_dir = o.labels,
                                            .classes = dataset::parse_yolo_classes(o.classes),

@@ -4,13 +4,17 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <charconv>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "app/cli_checks.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/text_escape.h"
 #include "learn/model_export.h"
 #include "learn/model_files.h"
 
@@ -44,18 +48,22 @@ void run_export(const ModelCommandOptions& o) {
 }
 
 void run_blend(const ModelCommandOptions& o) {
+  check_output_file(o.out);
   const learn::ModelChoice start = learn::choose_model(o.start, models_dir(o));
   const learn::ModelChoice tuned = learn::choose_model(o.finetuned, models_dir(o));
   learn::BlendAlphas alphas{.alpha = o.alpha, .part_alphas = {}};
   for (const std::string& spec : o.part_alphas) {
     const std::size_t eq = spec.rfind('=');
     double alpha = -1;
-    try {
-      if (eq != std::string::npos && eq > 0) alpha = std::stod(spec.substr(eq + 1));
-    } catch (const std::exception&) {
+    if (eq != std::string::npos && eq > 0) {
+      const char* first = spec.data() + eq + 1;
+      const char* last = spec.data() + spec.size();
+      const auto [end, ec] = std::from_chars(first, last, alpha);
+      if (ec != std::errc() || end != last || first == last) alpha = -1;
     }
-    if (alpha < 0 || alpha > 1) {
-      throw Error("--alpha-for: '" + spec + "' is not PART=ALPHA with ALPHA in [0, 1]");
+    if (!(alpha >= 0 && alpha <= 1)) {
+      throw Error("--alpha-for: '" + escape_bytes(spec) +
+                  "' is not PART=ALPHA with ALPHA a number in [0, 1]");
     }
     alphas.part_alphas.emplace_back(spec.substr(0, eq), alpha);
   }
@@ -95,7 +103,7 @@ void attach_model(CLI::App& parent) {
       ->capture_default_str();
   blend->add_option("--finetuned", options->finetuned, "The fine-tuned .pt")->required();
   blend->add_option("--alpha", options->alpha, "0 = the start model, 1 = the fine-tuned one")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(number_from(0, 1))
       ->capture_default_str();
   blend->add_option("--alpha-for", options->part_alphas,
                     "PART=ALPHA: this alpha for the parameters whose name contains PART, e.g. "

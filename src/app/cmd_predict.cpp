@@ -18,11 +18,13 @@
 #include <string>
 #include <vector>
 
+#include "app/cli_checks.h"
 #include "core/allocator.h"
 #include "core/atomic_file.h"
 #include "core/coco_data.h"
 #include "core/error.h"
 #include "core/image_files.h"
+#include "core/image_read.h"
 #include "core/keypoint_template.h"
 #include "eval/eval_viz.h"
 #include "learn/model_ensemble.h"
@@ -108,18 +110,19 @@ void attach_boxes(const PredictCommandOptions& o, const std::optional<coco::Coco
 }
 
 cv::Mat read_rgb(const fs::path& path) {
-  cv::Mat bgr = cv::imread(path.string(), cv::IMREAD_COLOR);
-  if (bgr.empty()) throw Error(path.string() + ": cannot read or decode the image");
+  cv::Mat bgr = read_image(path, cv::IMREAD_COLOR);
   cv::Mat rgb;
   cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
   return rgb;
 }
 
 void run_predict(const PredictCommandOptions& o) {
+  check_output_file(o.out);  // before minutes of work, not after
   std::vector<int> sizes = o.sizes;
   for (const int size : sizes) {
-    if (size < 32 || size % 32 != 0) {
-      throw Error("--size " + std::to_string(size) + ": must be a positive multiple of 32");
+    if (size < 32 || size > learn::kMaxInputSide || size % 32 != 0) {
+      throw Error("--size " + std::to_string(size) + ": must be a multiple of 32 from 32 to " +
+                  std::to_string(learn::kMaxInputSide));
     }
   }
   std::sort(sizes.begin(), sizes.end());
@@ -233,6 +236,7 @@ void attach_predict(CLI::App& parent) {
                   "the image at each and merge the people (default 256,640: real photos' large "
                   "people and our frames' small ones)")
       ->delimiter(',')
+      ->check(input_side())
       ->capture_default_str();
   cmd->add_option("--max-person-px", options->max_person_px,
                   "Several sizes: people whose box is longer than this in a size's input are "
@@ -240,7 +244,7 @@ void attach_predict(CLI::App& parent) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->add_option("--min-score", options->min_score, "Multipose: drop people scoring less")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(number_from(0, 1))
       ->capture_default_str();
   cmd->add_flag("--flip", options->flip,
                 "Multipose: also run each model on the mirrored image and fuse the two views "

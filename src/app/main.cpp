@@ -1,5 +1,6 @@
 // The `wheelpose` command. Exit codes: 0 success, 1 failure, 2 bad input or usage.
 
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
@@ -9,6 +10,7 @@
 #include "app/command.h"
 #include "core/allocator.h"
 #include "core/error.h"
+#include "core/text_escape.h"
 
 int main(int argc, char** argv) {
   wheelpose::retain_freed_memory();
@@ -24,6 +26,8 @@ int main(int argc, char** argv) {
                       : quiet ? spdlog::level::warn
                               : spdlog::level::info);
   });
+  // Logs go to stderr, so `--out /dev/stdout` (or a pipe) carries only the command's output.
+  spdlog::set_default_logger(spdlog::stderr_color_mt("wheelpose"));
   spdlog::set_pattern("%^%l%$: %v");
   for (const auto& command : wheelpose::app::command_table()) command.attach(app);
 
@@ -40,10 +44,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "Run with --help for usage.\n");
     return 2;
   } catch (const wheelpose::Error& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    // Escaped: a control byte or byte-order mark from a user's file stays visible, on one line.
+    std::fprintf(stderr, "error: %s\n", wheelpose::escape_bytes(e.what()).c_str());
     return e.exit_code();
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
+    std::fprintf(stderr, "error: %s\n", wheelpose::escape_bytes(e.what()).c_str());
     return 1;
   }
   return 0;

@@ -8,6 +8,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/parse_error.h"
+#include "core/text_escape.h"
 
 namespace wheelpose::coco {
 namespace {
@@ -84,6 +85,9 @@ int CocoGroundTruth::category_position(std::int64_t category_id) const {
 
 json parse_json_file(const std::filesystem::path& path) {
   const std::string text = read_file(path);
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
+    throw Error(path.string() + ": empty file, not JSON");
+  }
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {
@@ -94,9 +98,15 @@ json parse_json_file(const std::filesystem::path& path) {
     const std::size_t from = offset > 40 ? offset - 40 : 0;
     std::string near = text.substr(from, offset - from);
     std::replace(near.begin(), near.end(), '\n', ' ');
+    // The hint only where the failing token is one (Python's json writes NaN and Infinity).
+    const std::string around = text.substr(offset > 8 ? offset - 8 : 0, 16);
+    const bool looks_like_nan = around.find("NaN") != std::string::npos ||
+                                around.find("Infinity") != std::string::npos ||
+                                around.find("nan") != std::string::npos;
     throw Error(path.string() + ": malformed JSON at line " + std::to_string(line) + " (byte " +
-                std::to_string(e.byte) + ", after '" + near +
-                "'); note NaN/Infinity are not valid JSON");
+                std::to_string(e.byte) +
+                (near.empty() ? "" : ", after '" + escape_bytes(near) + "'") + ")" +
+                (looks_like_nan ? "; note NaN/Infinity are not valid JSON" : ""));
   } catch (const json::exception& e) {
     // e.g. 1e999: a number that overflows to infinity.
     throw Error(path.string() + ": invalid JSON: " + e.what());

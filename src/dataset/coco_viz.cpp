@@ -9,6 +9,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/image_read.h"
 
 namespace wheelpose::dataset {
 namespace {
@@ -74,8 +75,8 @@ void draw_annotation(cv::Mat& canvas, const json& a,
 ContactSheet::ContactSheet(std::size_t count, cv::Size cell)
     : cell_(cell), cols_(std::max(1, static_cast<int>(std::ceil(std::sqrt(double(count)))))) {
   const int rows = static_cast<int>((count + cols_ - 1) / cols_);
-  sheet_ = cv::Mat(std::max(1, rows) * cell.height, cols_ * cell.width, CV_8UC3,
-                   cv::Scalar(32, 32, 32));
+  sheet_ =
+      cv::Mat(std::max(1, rows) * cell.height, cols_ * cell.width, CV_8UC3, cv::Scalar(32, 32, 32));
 }
 
 void ContactSheet::place(std::size_t index, const cv::Mat& image) {
@@ -115,9 +116,10 @@ std::size_t visualize_coco(const json& root, const std::string& source,
     const json& im = *images[i];
     const std::string file = im["file_name"].get<std::string>();
     const std::filesystem::path path = images_dir / file;
-    cv::Mat canvas = cv::imread(path.string(), cv::IMREAD_COLOR);
-    if (canvas.empty())
-      throw Error(source + ": image '" + file + "': cannot read " + path.string());
+    if (!std::filesystem::is_regular_file(path)) {
+      throw Error(source + ": image '" + file + "': no such file " + path.string());
+    }
+    cv::Mat canvas = read_image(path, cv::IMREAD_COLOR);
     auto& anns = by_image[*as_integer(im["id"])];
     std::sort(anns.begin(), anns.end(), [](const json* a, const json* b) {
       return *as_integer((*a)["id"]) < *as_integer((*b)["id"]);

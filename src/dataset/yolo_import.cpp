@@ -11,6 +11,8 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/image_files.h"
+#include "core/image_read.h"
+#include "core/text_escape.h"
 
 namespace wheelpose::dataset {
 namespace {
@@ -48,7 +50,7 @@ double number(const std::string& word, const std::string& where) {
   double v = 0;
   const auto [end, ec] = std::from_chars(word.data(), word.data() + word.size(), v);
   if (ec != std::errc() || end != word.data() + word.size() || !std::isfinite(v)) {
-    throw Error(where + ": '" + word + "' is not a number");
+    throw Error(where + ": '" + escape_bytes(word) + "' is not a number");
   }
   return v;
 }
@@ -58,8 +60,7 @@ struct ImageSize {
 };
 
 ImageSize image_size(const fs::path& path) {
-  const cv::Mat image = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
-  if (image.empty()) throw Error(path.string() + ": cannot read or decode the image");
+  const cv::Mat image = read_image(path, cv::IMREAD_UNCHANGED);
   return {image.cols, image.rows};
 }
 
@@ -67,7 +68,10 @@ ImageSize image_size(const fs::path& path) {
 std::vector<json> read_labels(const fs::path& label_file, ImageSize size,
                               const std::map<int, YoloRole>& classes, int keypoint_count) {
   std::vector<json> annotations;
-  std::istringstream in(read_file(label_file));
+  std::string text = read_file(label_file);
+  // A byte-order mark (some Windows editors write one) is not part of the first value.
+  if (text.starts_with("\xEF\xBB\xBF")) text.erase(0, 3);
+  std::istringstream in(text);
   int line_number = 0;
   for (std::string line; std::getline(in, line);) {
     ++line_number;
@@ -80,9 +84,14 @@ std::vector<json> read_labels(const fs::path& label_file, ImageSize size,
       throw Error(where + ": expected 5 values (class cx cy w h), or 5 + " + std::to_string(2 * k) +
                   " or 5 + " + std::to_string(3 * k) + " with keypoints; got " + std::to_string(n));
     }
-    const double class_value = number(w[0], where);
-    const auto class_it = classes.find(static_cast<int>(class_value));
-    if (class_value != std::floor(class_value) || class_it == classes.end()) {
+    int class_value = -1;
+    const auto [class_end, class_ec] =
+        std::from_chars(w[0].data(), w[0].data() + w[0].size(), class_value);
+    if (class_ec != std::errc() || class_end != w[0].data() + w[0].size()) {
+      throw Error(where + ": class '" + escape_bytes(w[0]) + "' is not a whole number");
+    }
+    const auto class_it = classes.find(class_value);
+    if (class_it == classes.end()) {
       throw Error(where + ": class " + w[0] + " is not in the class mapping (" +
                   classes_text(classes) + ")");
     }
@@ -100,6 +109,10 @@ std::vector<json> read_labels(const fs::path& label_file, ImageSize size,
     const double y0 = std::clamp(v[2] - v[4] / 2, 0.0, 1.0) * size.height;
     const double x1 = std::clamp(v[1] + v[3] / 2, 0.0, 1.0) * size.width;
     const double y1 = std::clamp(v[2] + v[4] / 2, 0.0, 1.0) * size.height;
+    if (!(x1 - x0 > 0 && y1 - y0 > 0 && (x1 - x0) * (y1 - y0) > 0)) {
+      throw Error(where + ": the box has no area in the " + std::to_string(size.width) + "x" +
+                  std::to_string(size.height) + " image (w " + w[3] + ", h " + w[4] + ")");
+    }
 
     json keypoints = json::array();
     int labelled = 0;
@@ -129,7 +142,7 @@ std::vector<json> read_labels(const fs::path& label_file, ImageSize size,
                            {"iscrowd", class_it->second == YoloRole::kCrowd ? 1 : 0},
                            {"num_keypoints", labelled},
                            {"keypoints", std::move(keypoints)},
-                           {"yolo_class", static_cast<int>(class_value)}});
+                           {"yolo_class", class_value}});
   }
   return annotations;
 }
@@ -138,6 +151,10 @@ std::vector<json> read_labels(const fs::path& label_file, ImageSize size,
 
 std::map<int, YoloRole> parse_yolo_classes(const std::string& text) {
   std::map<int, YoloRole> classes;
+  if (!text.empty() && text.back() == ',') {
+    throw Error("--classes: '" + escape_bytes(text) +
+                "' has an empty item (expected e.g. 1=person,0=crowd)");
+  }
   std::istringstream in(text);
   for (std::string item; std::getline(in, item, ',');) {
     const std::size_t eq = item.find('=');
@@ -148,7 +165,7 @@ std::map<int, YoloRole> parse_yolo_classes(const std::string& text) {
     const std::string role = eq == std::string::npos ? "" : item.substr(eq + 1);
     if (eq == std::string::npos || ec != std::errc() || end != last || id < 0 ||
         (role != "person" && role != "crowd" && role != "drop")) {
-      throw Error("--classes: '" + item +
+      throw Error("--classes: '" + escape_bytes(item) +
                   "' is not CLASS=ROLE (CLASS a number, ROLE person, crowd or drop)");
     }
     if (!classes
@@ -166,6 +183,17 @@ std::map<int, YoloRole> parse_yolo_classes(const std::string& text) {
 json import_yolo(const YoloImportOptions& o, const KeypointTemplate& keypoint_template) {
   const fs::path labels_dir = o.labels_dir.empty() ? o.images_dir : o.labels_dir;
   const std::vector<fs::path> images = image_files_in(o.images_dir);
+  // The same rule as predict: a folder with nothing to read is a mistake, not an empty dataset.
+  if (images.empty()) {
+    throw Error(o.images_dir.string() + ": no images (.jpg, .jpeg, .png, .bmp) to import");
+  }
+  for (const fs::path& image : images) {
+    const std::string name = image.filename().string();
+    if (!is_valid_utf8(name)) {
+      throw Error(o.images_dir.string() + ": image name '" + escape_bytes(name) +
+                  "' is not UTF-8, so a COCO file (JSON text) cannot name it; rename it");
+    }
+  }
   std::map<std::string, fs::path> image_by_stem;
   for (const fs::path& image : images) {
     const auto [it, inserted] = image_by_stem.emplace(image.stem().string(), image);

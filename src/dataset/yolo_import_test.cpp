@@ -6,6 +6,8 @@
 #include <fstream>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <random>
+#include <sstream>
 
 #include "core/error.h"
 
@@ -130,7 +132,45 @@ TEST_F(YoloImport, BadLabelsNameTheFileAndLine) {
   label("b.txt", "1 0.5 x 0.2 0.4\n");
   EXPECT_EQ(failure(), b + ":1: 'x' is not a number");
   label("b.txt", "1.5 0.5 0.5 0.2 0.4\n");
-  EXPECT_EQ(failure().rfind(b + ":1: class 1.5 is not in the class mapping", 0), 0u);
+  EXPECT_EQ(failure(), b + ":1: class '1.5' is not a whole number");
+  label("b.txt", "0.0 0.5 0.5 0.2 0.4\n");
+  EXPECT_EQ(failure(), b + ":1: class '0.0' is not a whole number");
+  // A width that is positive but vanishes at the image's size (1e-320 × 200 px).
+  label("b.txt", "1 0.5 0.5 1e-320 0.4\n");
+  EXPECT_EQ(failure(), b + ":1: the box has no area in the 200x100 image (w 1e-320, h 0.4)");
+  // Invisible bytes are shown: a NUL inside a value, a byte-order mark inside one.
+  label("b.txt", std::string("1 0.5 0.5 0.2 0.4\0x\n", 20));
+  EXPECT_EQ(failure(), b + ":1: '0.4\\x00x' is not a number");
+  label("b.txt",
+        "1 \xEF\xBB\xBF"
+        "0.5 0.5 0.2 0.4\n");
+  EXPECT_EQ(failure(), b + ":1: '\\xEF\\xBB\\xBF0.5' is not a number");
+}
+
+TEST_F(YoloImport, AByteOrderMarkAtTheStartIsSkipped) {
+  label("b.txt",
+        "\xEF\xBB\xBF"
+        "1 0.5 0.5 0.2 0.4\n");
+  EXPECT_EQ(import()["annotations"].size(), 1u);
+}
+
+TEST_F(YoloImport, AnEmptyFolderOrANameThatIsNotUtf8IsAnError) {
+  const fs::path empty = dir_ / "empty";
+  fs::create_directories(empty);
+  YoloImportOptions options;
+  options.images_dir = empty;
+  options.classes = parse_yolo_classes("1=person");
+  try {
+    import_yolo(options, load_keypoint_template("coco17"));
+    ADD_FAILURE() << "an empty folder was imported";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              empty.string() + ": no images (.jpg, .jpeg, .png, .bmp) to import");
+  }
+  cv::imwrite((dir_ / "caf\xE9.png").string(), cv::Mat(10, 10, CV_8UC3, cv::Scalar(9, 9, 9)));
+  EXPECT_EQ(failure(), dir_.string() +
+                           ": image name 'caf\\xE9.png' is not UTF-8, so a COCO file (JSON text) "
+                           "cannot name it; rename it");
 }
 
 TEST_F(YoloImport, ALabelWithoutItsImageIsAnError) {
@@ -138,6 +178,66 @@ TEST_F(YoloImport, ALabelWithoutItsImageIsAnError) {
   label("zz.txt", "1 0.5 0.5 0.2 0.4\n");
   EXPECT_EQ(failure().rfind((dir_ / "zz.txt").string() + ": no image zz.{jpg,jpeg,png,bmp}", 0), 0u)
       << failure();
+}
+
+// Fuzzing the label parser: hostile values and random byte changes in a valid label file. Every
+// import either fails with one Error or writes a file `coco validate` accepts.
+TEST_F(YoloImport, HostileLabelsFailCleanlyOrImportValidFiles) {
+  const std::string valid = "1 0.5 0.5 0.2 0.4\n0 0.1 0.2 0.1 0.2";
+  const std::vector<std::string> hostile = {"1e-320",
+                                            "-0",
+                                            "nan",
+                                            "inf",
+                                            "1e308",
+                                            "0x1p-3",
+                                            "0.0",
+                                            "1",
+                                            "+0.5",
+                                            "-1",
+                                            "2",
+                                            "1.0000001",
+                                            "9999999999",
+                                            "1e-5",
+                                            std::string("0.5\0", 4),
+                                            "\xEF\xBB\xBF"
+                                            "0.5",
+                                            "\xFF",
+                                            "0.5,0.5",
+                                            "",
+                                            "\t",
+                                            "\r",
+                                            "1.5e0",
+                                            "0.999999999999999999999"};
+  std::mt19937 random(20261206);
+  int imported = 0, refused = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    std::istringstream in(valid);
+    std::vector<std::string> words;
+    for (std::string w; in >> w;) words.push_back(w);
+    std::string text;
+    for (std::size_t i = 0; i < words.size(); ++i) {
+      const bool mutate = random() % 6 == 0;
+      text += (mutate ? hostile[random() % hostile.size()] : words[i]) +
+              (i == 4 ? "\n" : (i + 1 == words.size() ? "\n" : " "));
+    }
+    if (trial % 3 == 0 && !text.empty()) {
+      text[random() % text.size()] = static_cast<char>(random() % 256);  // a random byte
+    }
+    label("b.txt", text);
+    try {
+      const json root = import("0=person,1=crowd");
+      const auto problems = validate_coco(root);
+      EXPECT_TRUE(problems.empty()) << "imported but invalid: " << problems[0].message << "\n"
+                                    << text;
+      ++imported;
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+      ++refused;
+    }
+  }
+  // Both outcomes are exercised.
+  EXPECT_GT(imported, 20);
+  EXPECT_GT(refused, 100);
 }
 
 TEST(YoloClasses, ParsesRolesAndRefusesBadItems) {
@@ -151,6 +251,13 @@ TEST(YoloClasses, ParsesRolesAndRefusesBadItems) {
   EXPECT_THROW(parse_yolo_classes("1=person,1=crowd"), Error);
   EXPECT_THROW(parse_yolo_classes(""), Error);
   EXPECT_THROW(parse_yolo_classes("1person"), Error);
+  try {
+    parse_yolo_classes("0=person,");
+    ADD_FAILURE() << "a trailing comma was taken";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "--classes: '0=person,' has an empty item (expected e.g. 1=person,0=crowd)");
+  }
 }
 
 }  // namespace

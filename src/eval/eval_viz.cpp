@@ -8,6 +8,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/image_read.h"
 #include "eval/oks_iou.h"
 
 namespace wheelpose::eval {
@@ -131,8 +132,7 @@ std::vector<std::filesystem::path> write_overlays(const coco::CocoGroundTruth& g
       throw Error(source.string() + ": image file of image id " + std::to_string(info.id) +
                   " not found (--images DIR must hold the GT images)");
     }
-    cv::Mat image = cv::imread(source.string(), cv::IMREAD_COLOR);
-    if (image.empty()) throw Error(source.string() + ": cannot decode image for --viz");
+    cv::Mat image = read_image(source, cv::IMREAD_COLOR);
     for (const coco::GtAnnotation& g : gt.annotations) {
       if (g.image_id != info.id) continue;
       draw_box(image, g.bbox, kWhite);

@@ -1,10 +1,13 @@
 #include "learn/graph_module.h"
 
+#include <unzip.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -45,8 +48,34 @@ std::string first_line(const std::string& s) {
   return nl == std::string::npos ? s : s.substr(0, nl);
 }
 
+// A .pt is a ZIP archive whose entries carry CRC-32s that LibTorch does not check: a damaged
+// file would load as NaN weights and predict nulls. Reads every entry so minizip compares them.
+// A file that is not a ZIP at all is left to pickle_load to refuse.
+void verify_archive_checksums(const fs::path& path) {
+  unzFile zip = unzOpen64(path.c_str());
+  if (zip == nullptr) return;
+  const std::unique_ptr<void, int (*)(unzFile)> close(zip, unzClose);
+  std::vector<char> buffer(1 << 16);
+  for (int status = unzGoToFirstFile(zip); status == UNZ_OK; status = unzGoToNextFile(zip)) {
+    char name[512] = {};
+    unzGetCurrentFileInfo64(zip, nullptr, name, sizeof name - 1, nullptr, 0, nullptr, 0);
+    const auto damaged = [&](const std::string& what) {
+      return Error(path.string() + ": damaged weights file: entry '" + name + "' " + what);
+    };
+    if (unzOpenCurrentFile(zip) != UNZ_OK) throw damaged("cannot be opened");
+    int read = 0;
+    while ((read = unzReadCurrentFile(zip, buffer.data(), static_cast<unsigned>(buffer.size()))) >
+           0) {
+    }
+    const int closed = unzCloseCurrentFile(zip);
+    if (read < 0) throw damaged("cannot be read");
+    if (closed == UNZ_CRCERROR) throw damaged("fails its CRC-32 checksum");
+  }
+}
+
 // The weights dict of a .pt written by save(); throws Error naming the file otherwise.
 c10::impl::GenericDict read_weights_dict(const fs::path& path) {
+  verify_archive_checksums(path);
   const std::string bytes = read_file(path);
   c10::IValue value;
   try {
@@ -377,6 +406,9 @@ void GraphModule::load(const fs::path& path) {
                       shape_text(target.sizes());
       }
       continue;
+    }
+    if (loaded.is_floating_point() && !torch::isfinite(loaded).all().item<bool>()) {
+      throw Error(prefix + "parameter '" + node + "' holds NaN or infinity (a damaged file?)");
     }
     copies.emplace_back(target, loaded);
   }

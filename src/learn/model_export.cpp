@@ -133,10 +133,20 @@ void blend_weights(const ModelChoice& start, const ModelChoice& finetuned,
     p.lerp_(target, alpha_of(node));
   }
   for (std::size_t i = 0; i < part_used.size(); ++i) {
-    if (!part_used[i]) {
-      throw Error("blend: no parameter of " + base.graph().name() + " is named like '" +
-                  alphas.part_alphas[i].first + "'");
+    if (part_used[i]) continue;
+    const std::string& part = alphas.part_alphas[i].first;
+    // Named parameters, all claimed by an earlier (first-match-wins) part: say which.
+    for (const std::string& node : base.parameter_nodes()) {
+      if (node.find(part) == std::string::npos) continue;
+      for (std::size_t j = 0; j < i; ++j) {
+        if (node.find(alphas.part_alphas[j].first) != std::string::npos) {
+          throw Error("blend: --alpha-for " + part + " changes nothing: the earlier --alpha-for " +
+                      alphas.part_alphas[j].first + " already took its parameters (e.g. '" + node +
+                      "'); the first match wins, so give the narrower part first");
+        }
+      }
     }
+    throw Error("blend: no parameter of " + base.graph().name() + " is named like '" + part + "'");
   }
   base.save(out_pt);
 }

@@ -230,6 +230,15 @@ TEST_F(ModelExport, BlendTakesAnAlphaPerPart) {
             }).find("no parameter of movenet-multipose is named like 'no_such_layer'"),
             std::string::npos);
   EXPECT_FALSE(fs::exists(dir.path() / "x.pt"));
+  // A part whose parameters an earlier, wider part already took: the message names that part.
+  const BlendAlphas shadowed{
+      .alpha = 0.5,
+      .part_alphas = {{"feature_extractor", 0.0}, {"feature_extractor/model_1/conv2d/", 1.0}}};
+  EXPECT_NE(error_of([&] { blend_weights(start, tuned_choice, shadowed, dir.path() / "x.pt"); })
+                .find("--alpha-for feature_extractor/model_1/conv2d/ changes nothing: the earlier "
+                      "--alpha-for feature_extractor already took its parameters"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(dir.path() / "x.pt"));
 }
 
 // The real TF.js runtime (tests/tfjs_reference, set up by scripts/setup.sh) on the export agrees

@@ -67,6 +67,9 @@ fs::path resolve_model(const std::string& name_or_path, const std::optional<fs::
   std::error_code ec;
   const fs::path as_path(name_or_path);
   if (as_path.extension() == ".json") {
+    if (fs::is_directory(as_path, ec)) {
+      throw Error(name_or_path + ": a folder, not a model file (give its model.json)");
+    }
     if (!fs::is_regular_file(as_path, ec)) throw Error(name_or_path + ": no such model file");
     return as_path;
   }
@@ -100,6 +103,9 @@ ModelChoice choose_model(const std::string& name_or_path,
   const fs::path as_path(name_or_path);
   if (as_path.extension() != ".pt") return {resolve_model(name_or_path, models_dir), {}};
   std::error_code ec;
+  if (fs::is_directory(as_path, ec)) {
+    throw Error(name_or_path + ": a folder, not a weights file (.pt from wheelpose train)");
+  }
   if (!fs::is_regular_file(as_path, ec)) throw Error(name_or_path + ": no such weights file");
   return {resolve_model(weights_model_name(as_path), models_dir), as_path};
 }

@@ -25,6 +25,11 @@ struct PosePrediction {
   coco::Box bbox;                      // multipose: the model's box; single: the given box
 };
 
+// The largest multipose input side: the width of the frames we render. Beyond it the network's
+// quarter-resolution heatmaps see people larger than any it learned, while time and memory grow
+// with the square (4096 took 6 GB and 11 s an image).
+inline constexpr int kMaxInputSide = 1280;
+
 struct PredictOptions {
   // Multipose inputs: the image's longer side, multiples of 32, smallest first. Several sizes
   // run the image at each and merge the people (learn/scale_merge.h): 256 serves people who

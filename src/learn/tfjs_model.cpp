@@ -394,6 +394,18 @@ std::unordered_map<std::string, HostTensor> read_weights(const Reader& r, const 
         t.data.resize(values.size() * sizeof(float));
         std::memcpy(t.data.data(), values.data(), t.data.size());
       }
+      // Random or damaged bytes show as non-finite floats; refused here rather than deep inside
+      // the graph (a NaN heatmap, or an error from whatever op first meets them).
+      if (t.dtype == DType::kFloat32) {
+        for (std::size_t k = 0; k < t.data.size(); k += sizeof(float)) {
+          float value;
+          std::memcpy(&value, t.data.data() + k, sizeof value);
+          if (!std::isfinite(value)) {
+            fail(fs::path(shard_names),
+                 "weight '" + entry.name + "' holds NaN or infinity (a damaged shard?)");
+          }
+        }
+      }
       if (!weights.emplace(entry.name, std::move(t)).second) {
         r.fail_at(gkey, "weight '" + entry.name + "' appears twice");
       }

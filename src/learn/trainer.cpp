@@ -14,10 +14,12 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/image_read.h"
 #include "core/keypoint_template.h"
 #include "learn/checkpoint.h"
 #include "learn/data_parallel.h"
 #include "learn/graph_module.h"
+#include "learn/pose_predictor.h"
 #include "learn/train_logs.h"
 #include "learn/train_step.h"
 #include "learn/training_curves.h"
@@ -42,8 +44,7 @@ TrainBatch make_batch(const Data& data, const TrainOptions& o, std::int64_t step
   // the batch one process would train on).
   for (int slot = o.rank; slot < o.batch; slot += o.world_size) {
     const TrainImage& image = data.set.images[pick_image(data.cumulative, o.seed, step, slot)];
-    const cv::Mat bgr = cv::imread(image.file.string(), cv::IMREAD_COLOR);
-    if (bgr.empty()) throw Error(image.file.string() + ": cannot decode image");
+    const cv::Mat bgr = read_image(image.file, cv::IMREAD_COLOR);
     cv::Mat rgb;
     cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
     samples.push_back(
@@ -67,8 +68,9 @@ void check(const TrainOptions& o) {
   if (!(o.learning_rate > 0)) bad("--lr must be positive");
   if (o.warmup_steps < 1) bad("--warmup must be at least 1");
   if (o.checkpoint_every < 1) bad("--checkpoint-every must be at least 1");
-  if (o.augment.input_size < 64 || o.augment.input_size % 32 != 0) {
-    bad("--input-size must be a multiple of 32, at least 64");
+  if (o.augment.input_size < 64 || o.augment.input_size > kMaxInputSide ||
+      o.augment.input_size % 32 != 0) {
+    bad("--input-size must be a multiple of 32 from 64 to " + std::to_string(kMaxInputSide));
   }
   if (o.loader_threads < 1) bad("--loader-threads must be at least 1");
   const AugmentOptions& a = o.augment;

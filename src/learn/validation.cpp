@@ -4,6 +4,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
+#include "core/image_read.h"
 #include "core/keypoint_template.h"
 #include "eval/coco_eval.h"
 #include "learn/pose_predictor.h"
@@ -28,9 +29,9 @@ Validator::Validator(const fs::path& coco, int longer_side, int threads)
       gt_(coco::load_coco_gt(coco, 17, false)),
       longer_side_(longer_side),
       threads_(threads) {
-  if (longer_side < 32 || longer_side % 32 != 0) {
+  if (longer_side < 32 || longer_side > kMaxInputSide || longer_side % 32 != 0) {
     throw Error("--val-size " + std::to_string(longer_side) +
-                ": must be a positive multiple of 32");
+                ": must be a multiple of 32 from 32 to " + std::to_string(kMaxInputSide));
   }
   if (gt_.images.empty()) throw Error(coco.string() + ": no images to validate on");
   const fs::path root = image_root(coco);
@@ -51,8 +52,7 @@ ValidationScores Validator::score(const fs::path& model_json,
   const PosePredictor predictor(model_json, options, weights);
   nlohmann::json results = nlohmann::json::array();
   for (std::size_t i = 0; i < files_.size(); ++i) {
-    const cv::Mat bgr = cv::imread(files_[i].string(), cv::IMREAD_COLOR);
-    if (bgr.empty()) throw Error(files_[i].string() + ": cannot read or decode the image");
+    const cv::Mat bgr = read_image(files_[i], cv::IMREAD_COLOR);
     cv::Mat rgb;
     cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
     for (const PosePrediction& p : predictor.predict_image(rgb)) {

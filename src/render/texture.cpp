@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
+#include "core/image_read.h"
 #include "core/random.h"
 
 namespace wheelpose::render {
@@ -82,10 +83,11 @@ cv::Mat load_linear_image(const std::string& path, const std::string& what) {
   // Checked first so OpenCV does not print its own warning for a missing file.
   if (!std::filesystem::is_regular_file(path))
     throw Error(what + ": image '" + path + "' not found");
-  cv::Mat raw = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);
-  if (raw.empty() || raw.cols == 0 || raw.rows == 0) {
-    throw Error(what + ": cannot read image '" + path +
-                "' (missing, empty, truncated or not an image)");
+  cv::Mat raw;
+  try {
+    raw = read_image(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);
+  } catch (const Error& e) {
+    throw Error(what + ": cannot read image: " + e.what());
   }
   cv::Mat rgb;
   cv::cvtColor(raw, rgb, cv::COLOR_BGR2RGB);

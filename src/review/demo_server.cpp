@@ -19,6 +19,9 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+// The page only reads files and models: requests carry no body worth more than this.
+constexpr std::size_t kMaxDemoRequestBytes = 64 * 1024;
+
 void require_file(const fs::path& file, const std::string& what) {
   std::error_code ec;
   if (!fs::is_regular_file(file, ec)) throw Error(file.string() + ": no such file (" + what + ")");
@@ -73,8 +76,7 @@ void serve_demo(DemoOptions options) {
   require_dir(options.examples_dir, "the example images");
 
   httplib::Server http;
-  http.new_task_queue = [] { return new httplib::ThreadPool(8); };
-  http.set_keep_alive_timeout(2);
+  set_connection_limits(http, kMaxDemoRequestBytes);
   set_security_headers(http, /*allow_blob_images=*/true);
   for (const auto& [prefix, dir] : std::vector<std::pair<std::string, fs::path>>{
            {"/tfjs", tfjs}, {"/examples", options.examples_dir}}) {

@@ -30,6 +30,47 @@ void set_security_headers(httplib::Server& http, bool allow_blob_images) {
   });
 }
 
+namespace {
+
+constexpr int kWorkers = 64;
+constexpr time_t kReadTimeoutSeconds = 2;
+constexpr time_t kWriteTimeoutSeconds = 10;
+constexpr time_t kKeepAliveSeconds = 2;
+
+// What the pre-routing check refuses, or "" for a request that may go on.
+std::string malformed(const httplib::Request& req) {
+  for (const unsigned char c : req.path) {
+    if (c < 0x20 || c == 0x7F) return "a control byte in the path";
+  }
+  const auto lengths = req.headers.equal_range("Content-Length");
+  for (auto it = lengths.first; it != lengths.second; ++it) {
+    const std::string& v = it->second;
+    // Digits only, and few enough that the value fits in 64 bits without wrapping.
+    if (v.empty() || v.size() > 18 || v.find_first_not_of("0123456789") != std::string::npos) {
+      return "a malformed Content-Length";
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
+void set_connection_limits(httplib::Server& http, std::size_t max_request_bytes) {
+  http.new_task_queue = [] { return new httplib::ThreadPool(kWorkers); };
+  http.set_read_timeout(kReadTimeoutSeconds, 0);
+  http.set_write_timeout(kWriteTimeoutSeconds, 0);
+  http.set_keep_alive_timeout(kKeepAliveSeconds);
+  http.set_payload_max_length(max_request_bytes);
+  http.set_pre_routing_handler([](const httplib::Request& req, httplib::Response& res) {
+    const std::string why = malformed(req);
+    if (why.empty()) return httplib::Server::HandlerResponse::Unhandled;
+    res.status = 400;
+    res.set_header("Connection", "close");
+    res.set_content("bad request: " + why + "\n", "text/plain; charset=utf-8");
+    return httplib::Server::HandlerResponse::Handled;
+  });
+}
+
 std::string bind_server(httplib::Server& http, const std::string& bind, int port) {
   if (port == 0) {
     port = http.bind_to_any_port(bind);

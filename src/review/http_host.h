@@ -6,6 +6,7 @@
 #include <httplib.h>
 #include <signal.h>
 
+#include <cstddef>
 #include <string>
 
 namespace wheelpose::review {
@@ -16,6 +17,13 @@ sigset_t block_stop_signals();
 // Content-Security-Policy (self only; images also from data: and blob: when allow_blob_images),
 // nosniff, no referrer, no framing.
 void set_security_headers(httplib::Server& http, bool allow_blob_images = false);
+
+// Connection limits and request checks both servers share, so that neither a slow client nor a
+// malformed request holds or confuses them: 64 workers (one per open connection), a client
+// silent for 2 s while a request is read is dropped, idle keep-alive connections close after
+// 2 s; bodies over `max_request_bytes`, a Content-Length that is not a plain decimal number,
+// and a path holding a NUL or other control byte get 400 before any handler runs.
+void set_connection_limits(httplib::Server& http, std::size_t max_request_bytes);
 
 // Binds `bind`:`port` (0 = any free port) and returns the page's URL. Throws Error (exit 1)
 // when the address cannot be bound.

@@ -296,13 +296,9 @@ void serve(const ServeOptions& options) {
   }
 
   httplib::Server http;
-  http.set_payload_max_length(kMaxRequestBytes);
-  // Browsers hold keep-alive connections open; enough workers that a study's participants never
-  // queue behind each other (SQLite writes are serialised anyway).
-  http.new_task_queue = [] { return new httplib::ThreadPool(64); };
-  http.set_keep_alive_timeout(2);
-  http.set_read_timeout(10, 0);
-  http.set_write_timeout(10, 0);
+  // Enough workers that a study's participants never queue behind each other (SQLite writes are
+  // serialised anyway), and short read timeouts so silent clients do not hold them.
+  set_connection_limits(http, kMaxRequestBytes);
   set_security_headers(http);
   ReviewServer api(store, catalog);
   api.install(http);
