@@ -186,8 +186,10 @@ void ensure_directory(const std::filesystem::path& path) {
   std::error_code error;
   std::filesystem::create_directories(path, error);
   if (error) {
+    // A file in the way or a path the user cannot write is theirs to fix (exit 2).
+    const bool users = error.value() == EEXIST || is_path_problem(error.value());
     throw Error(path.string() + ": cannot create directory: " + error.message(),
-                ErrorKind::kFailure);
+                users ? ErrorKind::kBadInput : ErrorKind::kFailure);
   }
 }
 

@@ -117,7 +117,8 @@ std::size_t visualize_coco(const json& root, const std::string& source,
     const std::string file = im["file_name"].get<std::string>();
     const std::filesystem::path path = images_dir / file;
     if (!std::filesystem::is_regular_file(path)) {
-      throw Error(source + ": image '" + file + "': no such file " + path.string());
+      throw Error(source + ": image '" + file + "': cannot read " + path.string() +
+                  " (no such file)");
     }
     cv::Mat canvas = read_image(path, cv::IMREAD_COLOR);
     auto& anns = by_image[*as_integer(im["id"])];

@@ -1,0 +1,143 @@
+#!/usr/bin/env bash
+# Real people with keypoints, rebuilt from public GitHub copies of COCO val2017, keeping only the
+# images whose Flickr licence lets us use them: Attribution (4), Attribution-ShareAlike (5),
+# No known copyright restrictions (7) and United States Government Work (8). Images under any
+# other licence (1, 2, 3, 6) are never copied. Nothing here is committed: the sets are built
+# into OUT.
+#
+#   OUT/test.json + OUT/test/       the real-people test: single-person images with the official
+#                                   person-keypoint ground truth (COCO annotations, CC BY 4.0)
+#   OUT/seated.json                 the test images whose captions say sit, sits, sitting, seated
+#                                   or sat in at least two of their five (same folder)
+#   OUT/rehearsal.json + rehearsal/ the rehearsal set for training: the multi-person images with
+#                                   YOLO-pose labels (read with `coco import-yolo`). Those labels
+#                                   hold only people with keypoints: crowds and people without
+#                                   keypoints are not marked, so a person in a rehearsal image is
+#                                   not proof that the rest of the image holds nobody.
+#   OUT/CREDITS.md                  every image with its licence and Flickr address
+#
+# Sources (each a checkout or the bare git directory the tool library's fetch brings):
+#   IMAGES    minto5z/coco_yolo: coco/images/val2017/ (1,045 single-person images) and
+#             coco/images/train2017/ (despite its name, more val2017 images), and
+#             coco/annotations/instances_val2017.json (the official ground truth of the 1,045)
+#   LABELS    Jar-17/yolov7_for_baseball: labels/val2017/ (YOLO-pose labels of val2017)
+#   CAPTIONS  ruizewang/evaluate: annotations/captions_val2017.json (every val2017 image's
+#             licence and size, and five captions each)
+#
+# usage: scripts/coco-people.sh IMAGES LABELS CAPTIONS [OUT]   (OUT default out/coco-people)
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+wp="$root/build/release/wheelpose"
+[[ $# -ge 3 ]] || { sed -n '2,29p' "$0"; exit 2; }
+images_src=$1 labels_src=$2 captions_src=$3 out=${4:-out/coco-people}
+[[ -x "$wp" ]] || { echo "coco-people: $wp is missing: cmake --build --preset release" >&2; exit 1; }
+command -v jq >/dev/null || { echo "coco-people: jq is missing (scripts/setup.sh)" >&2; exit 1; }
+if [[ -f "$out/test.json" && -f "$out/seated.json" && -f "$out/rehearsal.json" ]]; then
+  echo "coco-people: $out is complete" >&2
+  exit 0
+fi
+
+# Copies PATHS (files or folders) of a checkout or git directory SRC into DEST, keeping paths.
+extract() {
+  local src=$1 dest=$2
+  shift 2
+  mkdir -p "$dest"
+  if [[ -e "$src/$1" ]]; then
+    for p in "$@"; do
+      [[ -e "$src/$p" ]] || { echo "coco-people: $src/$p: missing" >&2; exit 2; }
+      mkdir -p "$dest/$(dirname "$p")"
+      cp -r "$src/$p" "$dest/$(dirname "$p")/"
+    done
+  elif git --git-dir="$src" rev-parse --verify -q HEAD >/dev/null 2>&1; then
+    for p in "$@"; do
+      git --git-dir="$src" cat-file -e "HEAD:$p" 2>/dev/null ||
+        { echo "coco-people: $src: no $p in its HEAD" >&2; exit 2; }
+    done
+    git --git-dir="$src" archive HEAD "$@" | tar -x -C "$dest"
+  else
+    echo "coco-people: $src: neither a checkout with $1 nor a git directory" >&2
+    exit 2
+  fi
+}
+
+scratch="$out.partial"
+rm -rf "$scratch"
+mkdir -p "$scratch/src" "$scratch/test" "$scratch/rehearsal/images" "$scratch/rehearsal/labels"
+extract "$captions_src" "$scratch/src" annotations/captions_val2017.json
+extract "$images_src" "$scratch/src" coco/annotations/instances_val2017.json
+extract "$labels_src" "$scratch/src" labels/val2017
+extract "$images_src" "$scratch/src" coco/images/val2017 coco/images/train2017
+captions="$scratch/src/annotations/captions_val2017.json"
+official="$scratch/src/coco/annotations/instances_val2017.json"
+
+# The licences we may use, and every allowed image's record (licence, size, address).
+jq '[.images[] | select(.license == 4 or .license == 5 or .license == 7 or .license == 8)]
+    | map({key: .file_name, value: .}) | from_entries' "$captions" >"$scratch/allowed.json"
+
+# The real-people test: the official ground truth cut to the allowed images.
+jq --slurpfile allowed "$scratch/allowed.json" '
+  ($allowed[0]) as $ok
+  | .images |= map(select($ok[.file_name] != null))
+  | (.images | map(.id) | map({key: tostring, value: true}) | from_entries) as $ids
+  | .annotations |= map(select($ids[.image_id | tostring] == true))
+  | .licenses |= map(select(.id == 4 or .id == 5 or .id == 7 or .id == 8))
+  | .info = {description: "COCO val2017 single-person images under Flickr licences 4, 5, 7, 8 with the official person keypoints (COCO annotations CC BY 4.0); rebuilt by scripts/coco-people.sh"}
+  ' "$official" >"$scratch/test.json"
+jq -r '.images[].file_name' "$scratch/test.json" | while read -r name; do
+  mv "$scratch/src/coco/images/val2017/$name" "$scratch/test/"
+done
+
+# Seated: at least two of an image's captions say so.
+jq --slurpfile caps "$captions" '
+  ($caps[0].annotations | map(select(.caption | test("\\b(sit|sits|sitting|seated|sat)\\b"; "i")))
+   | group_by(.image_id) | map(select(length >= 2) | {key: (.[0].image_id | tostring), value: true})
+   | from_entries) as $seated
+  | .images |= map(select($seated[.id | tostring] == true))
+  | (.images | map(.id) | map({key: tostring, value: true}) | from_entries) as $ids
+  | .annotations |= map(select($ids[.image_id | tostring] == true))
+  | .info.description += "; seated subset: two or more of five captions say sit/sitting/seated"
+  ' "$scratch/test.json" >"$scratch/seated.json"
+
+# The rehearsal set: allowed multi-person images that have a YOLO-pose label file.
+jq -r 'keys[]' "$scratch/allowed.json" | while read -r name; do
+  stem=${name%.jpg}
+  image="$scratch/src/coco/images/train2017/$name"
+  label="$scratch/src/labels/val2017/$stem.txt"
+  if [[ -f "$image" && -f "$label" ]]; then
+    mv "$image" "$scratch/rehearsal/images/"
+    mv "$label" "$scratch/rehearsal/labels/"
+  fi
+done
+"$wp" -q coco import-yolo --images "$scratch/rehearsal/images" \
+  --labels "$scratch/rehearsal/labels" --classes 0=person \
+  --description "COCO val2017 multi-person images under Flickr licences 4, 5, 7, 8; YOLO-pose labels from Jar-17/yolov7_for_baseball (people with keypoints only); rebuilt by scripts/coco-people.sh" \
+  --out "$scratch/rehearsal.json"
+
+# Credits: every image kept, its licence and where it came from.
+{
+  echo "# Real-people images (COCO val2017, Flickr)"
+  echo
+  echo "COCO annotations: CC BY 4.0 (the COCO Consortium). Images: their Flickr owners, under"
+  echo "the licence named per image. Built by scripts/coco-people.sh; not redistributed."
+  echo
+  echo "| file | licence | Flickr |"
+  echo "|---|---|---|"
+  jq -r --slurpfile caps "$captions" '
+    ($caps[0].licenses | map({key: (.id | tostring), value: .name}) | from_entries) as $names
+    | to_entries[] | "| \(.key) | \($names[.value.license | tostring]) | \(.value.flickr_url) |"' \
+    "$scratch/allowed.json" | while IFS= read -r row; do
+    name=${row#| }
+    name=${name%% |*}
+    [[ -f "$scratch/test/$name" || -f "$scratch/rehearsal/images/$name" ]] && echo "$row"
+  done
+} >"$scratch/CREDITS.md"
+
+rm -rf "$scratch/src" "$scratch/allowed.json"
+"$wp" -q coco validate "$scratch/test.json" --images "$scratch/test" >/dev/null
+rm -rf "$out"
+mv "$scratch" "$out"
+for set in test seated rehearsal; do
+  echo "coco-people: $out/$set.json: $(jq '.images | length' "$out/$set.json") images," \
+    "$(jq '[.annotations[] | select(.iscrowd == 0 and .num_keypoints > 0)] | length' \
+      "$out/$set.json") people with keypoints" >&2
+done
