@@ -50,10 +50,14 @@ extract() {
     done
   elif git --git-dir="$src" rev-parse --verify -q HEAD >/dev/null 2>&1; then
     for p in "$@"; do
-      git --git-dir="$src" cat-file -e "HEAD:$p" 2>/dev/null ||
-        { echo "coco-people: $src: no $p in its HEAD" >&2; exit 2; }
+      mkdir -p "$dest/$(dirname "$p")"
+      # By the path's own object, so blobs elsewhere that a partial mirror lacks are not read.
+      case "$(git --git-dir="$src" cat-file -t "HEAD:$p" 2>/dev/null)" in
+        blob) git --git-dir="$src" cat-file blob "HEAD:$p" >"$dest/$p" ;;
+        tree) git --git-dir="$src" archive --prefix="$p/" "HEAD:$p" | tar -x -C "$dest" ;;
+        *) echo "coco-people: $src: no $p in its HEAD" >&2; exit 2 ;;
+      esac
     done
-    git --git-dir="$src" archive HEAD "$@" | tar -x -C "$dest"
   else
     echo "coco-people: $src: neither a checkout with $1 nor a git directory" >&2
     exit 2

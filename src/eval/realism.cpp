@@ -1,0 +1,253 @@
+#include "eval/realism.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+#include "core/error.h"
+#include "eval/oks_iou.h"
+
+namespace wheelpose::eval {
+namespace {
+
+using nlohmann::json;
+
+// Fields that identify or measure a person or image rather than describe a drawn choice.
+const std::set<std::string>& structural_keys() {
+  static const std::set<std::string> keys = {"id",
+                                             "image_id",
+                                             "category_id",
+                                             "bbox",
+                                             "area",
+                                             "keypoints",
+                                             "num_keypoints",
+                                             "iscrowd",
+                                             "segmentation",
+                                             "keypoints_3d",
+                                             "bbox_3d",
+                                             "bbox_amodal",
+                                             "instance_id",
+                                             "pool_slot",
+                                             "file_name",
+                                             "frame",
+                                             "seed",
+                                             "width",
+                                             "height",
+                                             "coco_url",
+                                             "flickr_url",
+                                             "date_captured",
+                                             "camera.intrinsics",
+                                             "camera.extrinsics",
+                                             "motion_time",
+                                             "yolo_class"};
+  return keys;
+}
+
+// One person's attribute values: strings (and booleans) by key, numbers by key.
+struct Attributes {
+  std::vector<std::pair<std::string, std::string>> labels;
+  std::vector<std::pair<std::string, double>> numbers;
+};
+
+void collect(const json& value, const std::string& key, Attributes& out) {
+  if (structural_keys().contains(key)) return;
+  if (value.is_object()) {
+    for (const auto& [name, child] : value.items()) {
+      collect(child, key.empty() ? name : key + "." + name, out);
+    }
+  } else if (value.is_string()) {
+    out.labels.emplace_back(key, value.get<std::string>());
+  } else if (value.is_boolean()) {
+    out.labels.emplace_back(key, value.get<bool>() ? "true" : "false");
+  } else if (value.is_number()) {
+    out.numbers.emplace_back(key, value.get<double>());
+  } else if (value.is_array()) {
+    // A list of names (assets worn) counts the person under each; numeric lists are geometry.
+    for (const json& element : value) {
+      if (element.is_string()) out.labels.emplace_back(key, element.get<std::string>());
+    }
+  }
+}
+
+std::string number_text(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g", v);
+  return text;
+}
+
+struct Judged {
+  Attributes attributes;
+  bool found = false;
+  double oks = 0;
+};
+
+// Numeric attributes split at their quantiles; keys with one value say nothing and are left out.
+void add_numeric_groups(const std::vector<Judged>& people, int buckets,
+                        std::vector<RealismGroup>& groups) {
+  std::map<std::string, std::vector<std::pair<double, const Judged*>>> by_key;
+  for (const Judged& p : people) {
+    for (const auto& [key, value] : p.attributes.numbers) by_key[key].emplace_back(value, &p);
+  }
+  for (auto& [key, values] : by_key) {
+    std::sort(values.begin(), values.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<double> edges;  // lower edges of the buckets
+    for (int b = 0; b < buckets; ++b) {
+      const double edge = values[values.size() * b / buckets].first;
+      if (edges.empty() || edge > edges.back()) edges.push_back(edge);
+    }
+    if (edges.size() < 2) continue;
+    std::vector<RealismGroup> key_groups(edges.size());
+    for (std::size_t b = 0; b < edges.size(); ++b) {
+      key_groups[b].key = key;
+      key_groups[b].bucket =
+          b + 1 < edges.size()
+              ? "[" + number_text(edges[b]) + ", " + number_text(edges[b + 1]) + ")"
+              : "[" + number_text(edges[b]) + ", " + number_text(values.back().first) + "]";
+    }
+    for (const auto& [value, person] : values) {
+      const std::size_t b =
+          static_cast<std::size_t>(std::upper_bound(edges.begin(), edges.end(), value) -
+                                   edges.begin()) -
+          1;
+      key_groups[b].people += 1;
+      key_groups[b].found += person->found;
+      key_groups[b].oks_sum += person->oks;
+    }
+    groups.insert(groups.end(), key_groups.begin(), key_groups.end());
+  }
+}
+
+int labelled_keypoints(const coco::GtAnnotation& person) {
+  int labelled = 0;
+  for (std::size_t k = 2; k < person.keypoints.size(); k += 3) labelled += person.keypoints[k] > 0;
+  return labelled;
+}
+
+}  // namespace
+
+bool realism_judges(const coco::GtAnnotation& person, const RealismOptions& options) {
+  return !person.iscrowd && person.bbox.h >= options.min_height_px &&
+         labelled_keypoints(person) >= options.min_keypoints;
+}
+
+RealismReport measure_realism(const json& root, const coco::CocoGroundTruth& gt,
+                              const coco::CocoResults& results,
+                              const KeypointTemplate& keypoint_template,
+                              const RealismOptions& options) {
+  if (!results.detections.empty() && !results.has_keypoints) {
+    throw Error(results.source + ": the detections carry no keypoints; realism needs a pose model");
+  }
+  const std::vector<double> vars = oks_vars(keypoint_template);
+  std::unordered_map<std::int64_t, std::vector<const coco::Detection*>> detections_of;
+  for (const coco::Detection& d : results.detections) detections_of[d.image_id].push_back(&d);
+  std::unordered_map<std::int64_t, const json*> image_json;
+  for (const json& image : root.at("images"))
+    image_json[image.at("id").get<std::int64_t>()] = &image;
+
+  RealismReport report;
+  report.overall.key = report.overall.bucket = "all";
+  std::vector<Judged> people;
+  const json& annotations = root.at("annotations");
+  for (std::size_t i = 0; i < gt.annotations.size(); ++i) {
+    const coco::GtAnnotation& person = gt.annotations[i];
+    if (person.iscrowd) {
+      ++report.crowd;
+      continue;
+    }
+    if (person.bbox.h < options.min_height_px) {
+      ++report.too_small;
+      continue;
+    }
+    if (labelled_keypoints(person) < options.min_keypoints) {
+      ++report.too_few_keypoints;
+      continue;
+    }
+    Judged judged;
+    for (const coco::Detection* d : detections_of[person.image_id]) {
+      if (d->category_id != person.category_id) continue;
+      judged.oks = std::max(judged.oks, compute_oks(person, d->keypoints, vars));
+    }
+    judged.found = judged.oks >= options.found_oks;
+    collect(annotations.at(i), "", judged.attributes);
+    if (const auto it = image_json.find(person.image_id); it != image_json.end()) {
+      collect(*it->second, "", judged.attributes);
+    }
+    judged.attributes.numbers.emplace_back("height_px", person.bbox.h);
+    report.overall.people += 1;
+    report.overall.found += judged.found;
+    report.overall.oks_sum += judged.oks;
+    people.push_back(std::move(judged));
+  }
+
+  std::map<std::pair<std::string, std::string>, RealismGroup> labelled_groups;
+  for (const Judged& p : people) {
+    std::set<std::pair<std::string, std::string>> seen;  // a person counts once per value
+    for (const auto& label : p.attributes.labels) {
+      if (!seen.insert(label).second) continue;
+      RealismGroup& g = labelled_groups[label];
+      g.key = label.first;
+      g.bucket = label.second;
+      g.people += 1;
+      g.found += p.found;
+      g.oks_sum += p.oks;
+    }
+  }
+  for (auto& [label, group] : labelled_groups) report.groups.push_back(group);
+  add_numeric_groups(people, options.numeric_buckets, report.groups);
+  std::stable_sort(report.groups.begin(), report.groups.end(),
+                   [](const RealismGroup& a, const RealismGroup& b) { return a.key < b.key; });
+  return report;
+}
+
+std::string realism_markdown(const RealismReport& report, const std::string& title) {
+  const auto row = [](const RealismGroup& g) {
+    char text[256];
+    std::snprintf(text, sizeof text, "| %s | %d | %.1f %% | %.3f |\n", g.bucket.c_str(), g.people,
+                  100.0 * g.found_share(), g.mean_oks());
+    return std::string(text);
+  };
+  std::string md = "# Realism: " + title + "\n\n";
+  md += "People judged: " + std::to_string(report.overall.people) +
+        " (left out: " + std::to_string(report.too_small) + " too small, " +
+        std::to_string(report.too_few_keypoints) + " with too few labelled keypoints, " +
+        std::to_string(report.crowd) + " crowd regions).\n\n";
+  md += "| people | judged | found | mean OKS |\n|---|---|---|---|\n" + row(report.overall);
+  std::string key;
+  for (const RealismGroup& g : report.groups) {
+    if (g.key != key) {
+      key = g.key;
+      md += "\n## " + key + "\n\n| value | judged | found | mean OKS |\n|---|---|---|---|\n";
+    }
+    md += row(g);
+  }
+  return md;
+}
+
+json realism_json(const RealismReport& report, const RealismOptions& options) {
+  const auto group_json = [](const RealismGroup& g) {
+    return json{{"key", g.key},
+                {"value", g.bucket},
+                {"people", g.people},
+                {"found", g.found},
+                {"found_share", g.found_share()},
+                {"mean_oks", g.mean_oks()}};
+  };
+  json groups = json::array();
+  for (const RealismGroup& g : report.groups) groups.push_back(group_json(g));
+  return {{"options",
+           {{"min_height_px", options.min_height_px},
+            {"min_keypoints", options.min_keypoints},
+            {"found_oks", options.found_oks}}},
+          {"overall", group_json(report.overall)},
+          {"left_out",
+           {{"too_small", report.too_small},
+            {"too_few_keypoints", report.too_few_keypoints},
+            {"crowd", report.crowd}}},
+          {"groups", std::move(groups)}};
+}
+
+}  // namespace wheelpose::eval

@@ -1,0 +1,55 @@
+#pragma once
+// How a model trained on real photos sees a dataset's people (`wheelpose realism`): for every
+// labelled person large enough to judge, is the model's best match there (OKS ≥ 0.5), and how
+// close is it. Split by every attribute the dataset records per person and per image (the
+// generator's randomizer draws: environment, wheelchair type, clothing assets, body, camera, …)
+// so a user sees which scene choices look fake to a real-photo model. Run on a real keypoint set
+// it gives the reference a photo-real render should reach.
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/coco_data.h"
+#include "core/keypoint_template.h"
+
+namespace wheelpose::eval {
+
+struct RealismOptions {
+  double min_height_px = 120;  // the person's box height
+  int min_keypoints = 10;      // labelled keypoints (v > 0)
+  double found_oks = 0.5;      // a best match at least this close counts as found
+  int numeric_buckets = 4;     // numeric attributes split at their quantiles
+};
+
+// Whether `person` is judged: not a crowd region, its box at least min_height_px tall, at least
+// min_keypoints labelled.
+bool realism_judges(const coco::GtAnnotation& person, const RealismOptions& options);
+
+// The people of one attribute value (or of the whole set: key and bucket "all").
+struct RealismGroup {
+  std::string key, bucket;
+  int people = 0, found = 0;
+  double oks_sum = 0;  // best-match OKS, 0 where the model found nothing in the image
+  double found_share() const { return people ? static_cast<double>(found) / people : 0; }
+  double mean_oks() const { return people ? oks_sum / people : 0; }
+};
+
+struct RealismReport {
+  RealismGroup overall;
+  std::vector<RealismGroup> groups;  // by key, then bucket (numeric buckets in value order)
+  int too_small = 0, too_few_keypoints = 0, crowd = 0;  // people left out, and why
+};
+
+// `root` is the GT file as parsed JSON (for the attributes), `gt` the same parsed as COCO, and
+// `results` the model's detections with keypoints. Throws Error if results lack keypoints.
+RealismReport measure_realism(const nlohmann::json& root, const coco::CocoGroundTruth& gt,
+                              const coco::CocoResults& results,
+                              const KeypointTemplate& keypoint_template,
+                              const RealismOptions& options);
+
+// The report as Markdown tables and as JSON (every group with its counts).
+std::string realism_markdown(const RealismReport& report, const std::string& title);
+nlohmann::json realism_json(const RealismReport& report, const RealismOptions& options);
+
+}  // namespace wheelpose::eval

@@ -1,0 +1,142 @@
+#include "eval/realism.h"
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+
+namespace wheelpose::eval {
+namespace {
+
+using nlohmann::json;
+
+// A standing person's 17 keypoints inside a 100 × 200 box at (x, y), all labelled visible.
+json pose(double x, double y) {
+  json kp = json::array();
+  for (int k = 0; k < 17; ++k) kp.insert(kp.end(), {x + 5 * k, y + 11 * k, 2});
+  return kp;
+}
+
+json person(int id, int image_id, double x, double y, double height, json attributes) {
+  json a = {{"id", id},
+            {"image_id", image_id},
+            {"category_id", 1},
+            {"iscrowd", 0},
+            {"area", 100 * height},
+            {"bbox", {x, y, 100, height}},
+            {"num_keypoints", 17},
+            {"keypoints", pose(x, y)}};
+  for (const auto& [key, value] : attributes.items()) a[key] = value;
+  return a;
+}
+
+// Three judged people: found exactly (OKS 1), missed (the detection 150 px off), nobody detected;
+// and one too small and one crowd region, left out.
+json ground_truth() {
+  return {
+      {"images",
+       {{{"id", 1},
+         {"file_name", "a.jpg"},
+         {"width", 640},
+         {"height", 480},
+         {"environment", "room"}},
+        {{"id", 2},
+         {"file_name", "b.jpg"},
+         {"width", 640},
+         {"height", 480},
+         {"environment", "wall"}}}},
+      {"annotations",
+       {person(1, 1, 10, 10, 200,
+               {{"wheelchair_type", "manual"},
+                {"assets", {"hair/bob", "shoes"}},
+                {"body", {{"age", 20}}}}),
+        person(2, 1, 300, 10, 200,
+               {{"wheelchair_type", "power"}, {"assets", {"shoes"}}, {"body", {{"age", 60}}}}),
+        person(3, 2, 10, 10, 200,
+               {{"wheelchair_type", "manual"}, {"assets", json::array()}, {"body", {{"age", 80}}}}),
+        person(4, 2, 300, 10, 60, {{"wheelchair_type", "manual"}}),
+        [] {
+          json crowd = person(5, 2, 400, 10, 200, json::object());
+          crowd["iscrowd"] = 1;
+          return crowd;
+        }()}},
+      {"categories", {{{"id", 1}, {"name", "person"}}}}};
+}
+
+json detection(int image_id, double x, double y) {
+  json kp = pose(x, y);
+  for (std::size_t k = 2; k < kp.size(); k += 3) kp[k] = 0.9;
+  return {{"image_id", image_id},
+          {"category_id", 1},
+          {"keypoints", kp},
+          {"score", 0.9},
+          {"bbox", {x, y, 100, 200}}};
+}
+
+RealismReport measure(const json& results) {
+  const json root = ground_truth();
+  const coco::CocoGroundTruth gt = coco::parse_coco_gt(root, "gt.json", 17, true);
+  const coco::CocoResults dt = coco::parse_coco_results(results, "dt.json", gt, 17);
+  return measure_realism(root, gt, dt, load_keypoint_template("coco17"), RealismOptions{});
+}
+
+const RealismGroup& group(const RealismReport& report, const std::string& key,
+                          const std::string& value) {
+  for (const RealismGroup& g : report.groups) {
+    if (g.key == key && g.bucket == value) return g;
+  }
+  throw std::runtime_error("no group " + key + "=" + value);
+}
+
+TEST(Realism, TheBestMatchDecidesFoundAndItsOks) {
+  // Person 1 exactly; person 2's nearest detection is 150 px off (OKS ≈ 0); image 2 has none.
+  const RealismReport report =
+      measure(json::array({detection(1, 10, 10), detection(1, 450, 10), detection(1, 500, 300)}));
+  EXPECT_EQ(report.overall.people, 3);
+  EXPECT_EQ(report.overall.found, 1);
+  EXPECT_EQ(report.too_small, 1);
+  EXPECT_EQ(report.crowd, 1);
+  EXPECT_NEAR(report.overall.oks_sum, 1.0, 1e-3);  // 1 + ~0 + 0
+  EXPECT_NEAR(report.overall.mean_oks(), 1.0 / 3, 1e-3);
+
+  // Strings, booleans and names in lists are buckets; image attributes count for its people.
+  EXPECT_EQ(group(report, "wheelchair_type", "manual").people, 2);
+  EXPECT_EQ(group(report, "wheelchair_type", "manual").found, 1);
+  EXPECT_EQ(group(report, "wheelchair_type", "power").found, 0);
+  EXPECT_EQ(group(report, "assets", "shoes").people, 2);
+  EXPECT_EQ(group(report, "assets", "hair/bob").found, 1);
+  EXPECT_EQ(group(report, "environment", "room").people, 2);
+  EXPECT_EQ(group(report, "environment", "wall").people, 1);
+  // Nested numbers split at quantiles: ages 20, 60, 80 into [20, 60), [60, 80), [80, 80].
+  EXPECT_EQ(group(report, "body.age", "[20, 60)").found, 1);
+  EXPECT_EQ(group(report, "body.age", "[80, 80]").people, 1);
+  // Identifiers and geometry are not attributes; one-valued numbers say nothing.
+  for (const RealismGroup& g : report.groups) {
+    EXPECT_NE(g.key, "id");
+    EXPECT_NE(g.key, "bbox");
+    EXPECT_NE(g.key, "file_name");
+    EXPECT_NE(g.key, "height_px");  // every judged person is 200 px tall
+  }
+}
+
+TEST(Realism, ReportsNameEveryGroup) {
+  const RealismReport report = measure(json::array({detection(1, 10, 10)}));
+  const std::string md = realism_markdown(report, "test");
+  EXPECT_NE(md.find("| all | 3 | 33.3 % | 0.333 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("## wheelchair_type"), std::string::npos) << md;
+  const json j = realism_json(report, RealismOptions{});
+  EXPECT_EQ(j["overall"]["found"], 1);
+  EXPECT_EQ(j["left_out"]["too_small"], 1);
+  EXPECT_EQ(j["groups"].size(), report.groups.size());
+}
+
+TEST(Realism, ResultsWithoutKeypointsAreRefused) {
+  const json root = ground_truth();
+  const coco::CocoGroundTruth gt = coco::parse_coco_gt(root, "gt.json", 17, true);
+  const coco::CocoResults boxes = coco::parse_coco_results(
+      json::array({{{"image_id", 1}, {"category_id", 1}, {"bbox", {1, 1, 5, 5}}, {"score", 1}}}),
+      "boxes.json", gt, 17);
+  EXPECT_THROW(measure_realism(root, gt, boxes, load_keypoint_template("coco17"), {}), Error);
+}
+
+}  // namespace
+}  // namespace wheelpose::eval
