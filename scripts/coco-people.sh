@@ -5,16 +5,20 @@
 # other licence (1, 2, 3, 6) are never copied. Nothing here is committed: the sets are built
 # into OUT.
 #
-#   OUT/test.json + OUT/test/       the real-people test: single-person images with the official
-#                                   person-keypoint ground truth (COCO annotations, CC BY 4.0)
-#   OUT/seated.json                 the test images whose captions say sit, sits, sitting, seated
-#                                   or sat in at least two of their five (same folder)
-#   OUT/rehearsal.json + rehearsal/ the rehearsal set for training: the multi-person images with
-#                                   YOLO-pose labels (read with `coco import-yolo`). Those labels
-#                                   hold only people with keypoints: crowds and people without
-#                                   keypoints are not marked, so a person in a rehearsal image is
-#                                   not proof that the rest of the image holds nobody.
-#   OUT/CREDITS.md                  every image with its licence and Flickr address
+# Each set is a folder as `wheelpose generate` writes one (annotations.json beside images/), so
+# `wheelpose realism OUT/test`, `train --train OUT/rehearsal/annotations.json` and `predict
+# --coco OUT/test/annotations.json --images OUT/test/images` find the images.
+#   OUT/test/annotations.json   the real-people test: single-person images with the official
+#                               person-keypoint ground truth (COCO annotations, CC BY 4.0)
+#   OUT/test/seated.json        the test images whose captions say sit, sits, sitting, seated or
+#                               sat in at least two of their five (same images/ folder)
+#   OUT/rehearsal/annotations.json
+#                               the rehearsal set for training: the multi-person images with
+#                               YOLO-pose labels (read with `coco import-yolo`, kept in labels/).
+#                               Those labels hold only people with keypoints: crowds and people
+#                               without keypoints are not marked, so a person in a rehearsal
+#                               image is not proof that the rest of the image holds nobody.
+#   OUT/CREDITS.md              every image with its licence and Flickr address
 #
 # Sources (each a checkout or the bare git directory the tool library's fetch brings):
 #   IMAGES    minto5z/coco_yolo: coco/images/val2017/ (1,045 single-person images) and
@@ -28,11 +32,12 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 wp="$root/build/release/wheelpose"
-[[ $# -ge 3 ]] || { sed -n '2,29p' "$0"; exit 2; }
+[[ $# -ge 3 ]] || { sed -n '2,33p' "$0"; exit 2; }
 images_src=$1 labels_src=$2 captions_src=$3 out=${4:-out/coco-people}
 [[ -x "$wp" ]] || { echo "coco-people: $wp is missing: cmake --build --preset release" >&2; exit 1; }
 command -v jq >/dev/null || { echo "coco-people: jq is missing (scripts/setup.sh)" >&2; exit 1; }
-if [[ -f "$out/test.json" && -f "$out/seated.json" && -f "$out/rehearsal.json" ]]; then
+if [[ -f "$out/test/annotations.json" && -f "$out/test/seated.json" &&
+      -f "$out/rehearsal/annotations.json" ]]; then
   echo "coco-people: $out is complete" >&2
   exit 0
 fi
@@ -66,7 +71,8 @@ extract() {
 
 scratch="$out.partial"
 rm -rf "$scratch"
-mkdir -p "$scratch/src" "$scratch/test" "$scratch/rehearsal/images" "$scratch/rehearsal/labels"
+mkdir -p "$scratch/src" "$scratch/test/images" "$scratch/rehearsal/images" \
+  "$scratch/rehearsal/labels"
 extract "$captions_src" "$scratch/src" annotations/captions_val2017.json
 extract "$images_src" "$scratch/src" coco/annotations/instances_val2017.json
 extract "$labels_src" "$scratch/src" labels/val2017
@@ -86,9 +92,9 @@ jq --slurpfile allowed "$scratch/allowed.json" '
   | .annotations |= map(select($ids[.image_id | tostring] == true))
   | .licenses |= map(select(.id == 4 or .id == 5 or .id == 7 or .id == 8))
   | .info = {description: "COCO val2017 single-person images under Flickr licences 4, 5, 7, 8 with the official person keypoints (COCO annotations CC BY 4.0); rebuilt by scripts/coco-people.sh"}
-  ' "$official" >"$scratch/test.json"
-jq -r '.images[].file_name' "$scratch/test.json" | while read -r name; do
-  mv "$scratch/src/coco/images/val2017/$name" "$scratch/test/"
+  ' "$official" >"$scratch/test/annotations.json"
+jq -r '.images[].file_name' "$scratch/test/annotations.json" | while read -r name; do
+  mv "$scratch/src/coco/images/val2017/$name" "$scratch/test/images/"
 done
 
 # Seated: at least two of an image's captions say so.
@@ -100,7 +106,7 @@ jq --slurpfile caps "$captions" '
   | (.images | map(.id) | map({key: tostring, value: true}) | from_entries) as $ids
   | .annotations |= map(select($ids[.image_id | tostring] == true))
   | .info.description += "; seated subset: two or more of five captions say sit/sitting/seated"
-  ' "$scratch/test.json" >"$scratch/seated.json"
+  ' "$scratch/test/annotations.json" >"$scratch/test/seated.json"
 
 # The rehearsal set: allowed multi-person images that have a YOLO-pose label file.
 jq -r 'keys[]' "$scratch/allowed.json" | while read -r name; do
@@ -115,7 +121,7 @@ done
 "$wp" -q coco import-yolo --images "$scratch/rehearsal/images" \
   --labels "$scratch/rehearsal/labels" --classes 0=person \
   --description "COCO val2017 multi-person images under Flickr licences 4, 5, 7, 8; YOLO-pose labels from Jar-17/yolov7_for_baseball (people with keypoints only); rebuilt by scripts/coco-people.sh" \
-  --out "$scratch/rehearsal.json"
+  --out "$scratch/rehearsal/annotations.json"
 
 # Credits: every image kept, its licence and where it came from.
 {
@@ -132,15 +138,17 @@ done
     "$scratch/allowed.json" | while IFS= read -r row; do
     name=${row#| }
     name=${name%% |*}
-    [[ -f "$scratch/test/$name" || -f "$scratch/rehearsal/images/$name" ]] && echo "$row"
+    if [[ -f "$scratch/test/images/$name" || -f "$scratch/rehearsal/images/$name" ]]; then
+      echo "$row"
+    fi
   done
 } >"$scratch/CREDITS.md"
 
 rm -rf "$scratch/src" "$scratch/allowed.json"
-"$wp" -q coco validate "$scratch/test.json" --images "$scratch/test" >/dev/null
+"$wp" -q coco validate "$scratch/test/annotations.json" --images "$scratch/test/images" >/dev/null
 rm -rf "$out"
 mv "$scratch" "$out"
-for set in test seated rehearsal; do
+for set in test/annotations test/seated rehearsal/annotations; do
   echo "coco-people: $out/$set.json: $(jq '.images | length' "$out/$set.json") images," \
     "$(jq '[.annotations[] | select(.iscrowd == 0 and .num_keypoints > 0)] | length' \
       "$out/$set.json") people with keypoints" >&2
