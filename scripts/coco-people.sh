@@ -15,9 +15,9 @@
 #   OUT/rehearsal/annotations.json
 #                               the rehearsal set for training: the multi-person images with
 #                               YOLO-pose labels (read with `coco import-yolo`, kept in labels/).
-#                               Those labels hold only people with keypoints: crowds and people
-#                               without keypoints are not marked, so a person in a rehearsal
-#                               image is not proof that the rest of the image holds nobody.
+#                               Those labels hold only people with keypoints, so the people
+#                               the pretrained model finds that no label covers are added as
+#                               crowd regions (iscrowd 1), which training ignores.
 #   OUT/CREDITS.md              every image with its licence and Flickr address
 #
 # Sources (each a checkout or the bare git directory the tool library's fetch brings):
@@ -120,8 +120,36 @@ jq -r 'keys[]' "$scratch/allowed.json" | while read -r name; do
 done
 "$wp" -q coco import-yolo --images "$scratch/rehearsal/images" \
   --labels "$scratch/rehearsal/labels" --classes 0=person \
-  --description "COCO val2017 multi-person images under Flickr licences 4, 5, 7, 8; YOLO-pose labels from Jar-17/yolov7_for_baseball (people with keypoints only); rebuilt by scripts/coco-people.sh" \
-  --out "$scratch/rehearsal/annotations.json"
+  --description "COCO val2017 multi-person images under Flickr licences 4, 5, 7, 8; YOLO-pose labels from Jar-17/yolov7_for_baseball (people with keypoints only), unlabelled people found by the pretrained model as crowd regions; rebuilt by scripts/coco-people.sh" \
+  --out "$scratch/rehearsal/labelled.json"
+# The people the labels leave out become crowd regions, which training ignores (no target, no
+# background loss): the pretrained model's people scoring at least 0.3 whose box overlaps no
+# labelled person's by IoU 0.3 or more, clipped to the image.
+"$wp" -q predict --coco "$scratch/rehearsal/labelled.json" --images "$scratch/rehearsal/images" \
+  --out "$scratch/rehearsal/pretrained.json"
+jq --slurpfile dt "$scratch/rehearsal/pretrained.json" '
+  def iou(a; b):
+    ([a[0], b[0]] | max) as $x0 | ([a[1], b[1]] | max) as $y0
+    | ([a[0] + a[2], b[0] + b[2]] | min) as $x1 | ([a[1] + a[3], b[1] + b[3]] | min) as $y1
+    | ([$x1 - $x0, 0] | max) * ([$y1 - $y0, 0] | max) as $inter
+    | $inter / (a[2] * a[3] + b[2] * b[3] - $inter);
+  (.images | map({key: (.id | tostring), value: [.width, .height]}) | from_entries) as $size
+  | (.annotations | group_by(.image_id)
+     | map({key: (.[0].image_id | tostring), value: map(.bbox)}) | from_entries) as $labelled
+  | [$dt[0][] | select(.score >= 0.3) | . as $d
+     | select(all(($labelled[$d.image_id | tostring] // [])[]; iou($d.bbox; .) < 0.3))
+     | $size[$d.image_id | tostring] as [$w, $h]
+     | ([$d.bbox[0], 0] | max) as $x0 | ([$d.bbox[1], 0] | max) as $y0
+     | ([$d.bbox[0] + $d.bbox[2], $w] | min) as $x1 | ([$d.bbox[1] + $d.bbox[3], $h] | min) as $y1
+     | select($x1 > $x0 and $y1 > $y0)
+     | {image_id: $d.image_id, bbox: [$x0, $y0, $x1 - $x0, $y1 - $y0]}] as $regions
+  | ([.annotations[].id] | max // 0) as $last
+  | .annotations += [$regions | to_entries[] | {
+      id: ($last + 1 + .key), image_id: .value.image_id, category_id: 1, iscrowd: 1,
+      bbox: .value.bbox, area: (.value.bbox[2] * .value.bbox[3]), num_keypoints: 0,
+      keypoints: [range(51) | 0]}]
+  ' "$scratch/rehearsal/labelled.json" >"$scratch/rehearsal/annotations.json"
+rm "$scratch/rehearsal/labelled.json" "$scratch/rehearsal/pretrained.json"
 
 # Credits: every image kept, its licence and where it came from.
 {
@@ -151,5 +179,6 @@ mv "$scratch" "$out"
 for set in test/annotations test/seated rehearsal/annotations; do
   echo "coco-people: $out/$set.json: $(jq '.images | length' "$out/$set.json") images," \
     "$(jq '[.annotations[] | select(.iscrowd == 0 and .num_keypoints > 0)] | length' \
-      "$out/$set.json") people with keypoints" >&2
+      "$out/$set.json") people with keypoints," \
+    "$(jq '[.annotations[] | select(.iscrowd == 1)] | length' "$out/$set.json") crowd regions" >&2
 done

@@ -33,6 +33,7 @@ MovenetTargets build_targets(const std::vector<TrainPerson>& people, int input_s
   t.keypoint_heatmap.assign(static_cast<std::size_t>(g) * g * kKeypoints, 0.f);
   const double s = 1.0 / kOutputStride;
   for (const TrainPerson& p : people) {
+    if (p.ignore) continue;
     const double cy = (p.box.y + p.box.h / 2) * s, cx = (p.box.x + p.box.w / 2) * s;
     const int iy = std::clamp(static_cast<int>(std::floor(cy)), 0, g - 1);
     const int ix = std::clamp(static_cast<int>(std::floor(cx)), 0, g - 1);
@@ -56,6 +57,21 @@ MovenetTargets build_targets(const std::vector<TrainPerson>& people, int input_s
                              {static_cast<float>(ky - ky_cell), static_cast<float>(kx - kx_cell)}});
     }
     t.centres.push_back(c);
+  }
+  for (const TrainPerson& p : people) {
+    if (!p.ignore) continue;
+    if (t.heatmap_weight.empty()) t.heatmap_weight.assign(static_cast<std::size_t>(g) * g, 1.f);
+    // Every cell the region's box touches, unless a person's centre is spread there.
+    const int y0 = std::clamp(static_cast<int>(std::floor(p.box.y * s)), 0, g - 1);
+    const int x0 = std::clamp(static_cast<int>(std::floor(p.box.x * s)), 0, g - 1);
+    const int y1 = std::clamp(static_cast<int>(std::ceil((p.box.y + p.box.h) * s)) - 1, 0, g - 1);
+    const int x1 = std::clamp(static_cast<int>(std::ceil((p.box.x + p.box.w) * s)) - 1, 0, g - 1);
+    for (int y = y0; y <= y1; ++y) {
+      for (int x = x0; x <= x1; ++x) {
+        const std::size_t cell = static_cast<std::size_t>(y) * g + x;
+        if (t.centre_heatmap[cell] == 0.f) t.heatmap_weight[cell] = 0.f;
+      }
+    }
   }
   return t;
 }

@@ -7,7 +7,8 @@
 //  - keypoint heatmaps: the same Gaussian at each labelled keypoint's cell (v = 1 or 2);
 //  - at the centre cell: keypoint regression = keypoint − centre cell (y, x per keypoint,
 //    labelled ones only), box scale = (h, w), box offset = box centre − centre cell;
-//  - at each labelled keypoint's cell: offset = keypoint − cell (y, x).
+//  - at each labelled keypoint's cell: offset = keypoint − cell (y, x);
+//  - crowd regions get no targets; their cells get heatmap weight 0 (no negative loss there).
 // Sigma of the Gaussians, in cells: max(0.8, 0.1 · sqrt(box h · box w)) — the spread grows with
 // the person so a large person's peak is not a single cell.
 
@@ -39,6 +40,9 @@ struct MovenetTargets {
   int grid = 0;                         // cells per side (input_size / 4)
   std::vector<float> centre_heatmap;    // grid × grid
   std::vector<float> keypoint_heatmap;  // grid × grid × 17 (NHWC, as the head)
+  // grid × grid: 0 in the cells of crowd regions (TrainPerson::ignore) that no person's centre
+  // Gaussian reaches, 1 elsewhere; empty when the sample has no crowd region.
+  std::vector<float> heatmap_weight;
   std::vector<CentreTarget> centres;
   std::vector<KeypointTarget> keypoints;
 };

@@ -38,5 +38,33 @@ TEST(MovenetTargets, GoldenValuesForOnePerson) {
   EXPECT_EQ(t.keypoint_heatmap[(11 * 32 + 12) * 17 + 1], 0.f);  // other channel untouched
 }
 
+// A crowd region gets no targets; its cells lose their heatmap weight except where a person's
+// centre Gaussian reaches; a sample without one has no weight map at all.
+TEST(MovenetTargets, ACrowdRegionIsIgnoredNotTaughtAsBackground) {
+  TrainPerson person;
+  person.box = {42, 40, 40, 80};  // centre cell (20, 15)
+  person.keypoints[2] = 0;
+  TrainPerson crowd;
+  crowd.box = {0, 0, 64, 32};  // cells x 0..15, y 0..7
+  crowd.ignore = true;
+  crowd.keypoints[0] = 10, crowd.keypoints[1] = 10, crowd.keypoints[2] = 2;  // never a target
+  EXPECT_TRUE(build_targets({person}, 128).heatmap_weight.empty());
+  const MovenetTargets t = build_targets({person, crowd}, 128);
+  ASSERT_EQ(t.centres.size(), 1u);
+  EXPECT_TRUE(t.keypoints.empty());
+  ASSERT_EQ(t.heatmap_weight.size(), 32u * 32u);
+  EXPECT_EQ(t.heatmap_weight[0], 0.f);
+  EXPECT_EQ(t.heatmap_weight[7 * 32 + 15], 0.f);   // the region's last cell
+  EXPECT_EQ(t.heatmap_weight[8 * 32 + 15], 1.f);   // just below it
+  EXPECT_EQ(t.heatmap_weight[7 * 32 + 16], 1.f);   // just right of it
+  EXPECT_EQ(t.heatmap_weight[20 * 32 + 15], 1.f);  // the person
+  EXPECT_EQ(t.centre_heatmap[0], 0.f);
+  // Where the region overlaps the person's centre Gaussian, the person's cells keep their weight.
+  crowd.box = {40, 60, 48, 40};
+  const MovenetTargets overlap = build_targets({person, crowd}, 128);
+  EXPECT_EQ(overlap.heatmap_weight[20 * 32 + 15], 1.f);
+  EXPECT_EQ(overlap.heatmap_weight[15 * 32 + 21], 0.f);  // in the region, beyond the Gaussian
+}
+
 }  // namespace
 }  // namespace wheelpose::learn

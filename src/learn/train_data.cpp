@@ -58,11 +58,12 @@ TrainSet load_train_set(const std::vector<TrainSource>& sources) {
     }
     for (const coco::GtAnnotation& a : gt.annotations) {
       const int position = gt.image_position(a.image_id);
-      if (position < 0 || a.iscrowd || a.bbox.w <= 0 || a.bbox.h <= 0) continue;
+      if (position < 0 || a.bbox.w <= 0 || a.bbox.h <= 0) continue;
       TrainPerson person;
       person.box = a.bbox;
+      person.ignore = a.iscrowd;
       bool labelled = false;
-      if (a.keypoints.size() == 51) {
+      if (!a.iscrowd && a.keypoints.size() == 51) {
         std::copy(a.keypoints.begin(), a.keypoints.end(), person.keypoints.begin());
         for (int k = 0; k < 17; ++k) labelled |= a.keypoints[3 * k + 2] > 0;
       }
@@ -70,7 +71,11 @@ TrainSet load_train_set(const std::vector<TrainSource>& sources) {
       images[position].people.push_back(person);
     }
     for (TrainImage& image : images) {
-      if (!image.people.empty()) set.images.push_back(std::move(image));
+      // An image is trained on around its people; crowd regions alone give no crop.
+      if (std::any_of(image.people.begin(), image.people.end(),
+                      [](const TrainPerson& p) { return !p.ignore; })) {
+        set.images.push_back(std::move(image));
+      }
     }
   }
   if (set.labelled_people == 0) {
@@ -118,10 +123,14 @@ void jitter_colours(cv::Mat& rgb, RandomStream& random, double amount) {
 TrainSample augment(const cv::Mat& rgb, const std::vector<TrainPerson>& people,
                     const std::vector<std::pair<int, int>>& flip_pairs, const AugmentOptions& o,
                     std::uint64_t random_seed, std::uint64_t key) {
-  WHEELPOSE_CHECK(!rgb.empty() && !people.empty());
+  std::vector<std::size_t> anchors;  // the crop centres on a person, never a crowd region
+  for (std::size_t i = 0; i < people.size(); ++i) {
+    if (!people[i].ignore) anchors.push_back(i);
+  }
+  WHEELPOSE_CHECK(!rgb.empty() && !anchors.empty());
   RandomStream random(random_seed, {"augment", key});
   const TrainPerson& anchor =
-      people[static_cast<std::size_t>(random.uniform_int(0, std::ssize(people) - 1))];
+      people[anchors[static_cast<std::size_t>(random.uniform_int(0, std::ssize(anchors) - 1))]];
   double scale = 0;
   if (o.person_size_max > 0) {
     const double side = std::max({anchor.box.w, anchor.box.h, 1.0});
@@ -148,6 +157,24 @@ TrainSample augment(const cv::Mat& rgb, const std::vector<TrainPerson>& people,
   const double size = o.input_size;
   for (const TrainPerson& p : people) {
     TrainPerson out;
+    out.ignore = p.ignore;
+    if (p.ignore) {
+      // A region, not a person: the box of its mapped corners, so rotation never shrinks it.
+      double x0 = size, y0 = size, x1 = 0, y1 = 0;
+      for (const double fx : {0.0, 1.0}) {
+        for (const double fy : {0.0, 1.0}) {
+          const cv::Point2d q = map(p.box.x + fx * p.box.w, p.box.y + fy * p.box.h);
+          x0 = std::min(x0, q.x), x1 = std::max(x1, q.x), y0 = std::min(y0, q.y);
+          y1 = std::max(y1, q.y);
+        }
+      }
+      x0 = std::clamp(x0, 0.0, size), x1 = std::clamp(x1, 0.0, size);
+      y0 = std::clamp(y0, 0.0, size), y1 = std::clamp(y1, 0.0, size);
+      if (x1 - x0 < 1 || y1 - y0 < 1) continue;  // left the input
+      out.box = {x0, y0, x1 - x0, y1 - y0};
+      sample.people.push_back(out);
+      continue;
+    }
     // The box of the ellipse inscribed in the person's box, carried through the transform:
     // exact without rotation, and under rotation far closer to the rotated person's own box
     // than the rotated corners, which would teach the box head to draw every box too wide.

@@ -25,11 +25,14 @@ TrainSource parse_train_source(const std::string& text);
 struct TrainPerson {
   coco::Box box;                       // pixels
   std::array<double, 51> keypoints{};  // x, y, v (COCO-17); v = 0: not labelled
+  // A crowd region (COCO iscrowd 1): no targets, and its cells carry no heatmap loss, so people
+  // a set leaves unlabelled there are not taught as background.
+  bool ignore = false;
 };
 
 struct TrainImage {
   std::filesystem::path file;
-  std::vector<TrainPerson> people;  // non-crowd people with a box
+  std::vector<TrainPerson> people;  // people with a box, and crowd regions (ignore)
   double weight = 1;                // its source's weight
 };
 

@@ -154,6 +154,37 @@ TEST(Augment, SameSeedAndKeyGiveTheSameSample) {
   EXPECT_NE(a.people[0].keypoints, c.people[0].keypoints);
 }
 
+// A crowd region rides along through the transform as a box that never shrinks, and the crop
+// always centres on the person, whatever the draw.
+TEST(Augment, CrowdRegionsFollowTheCropButAreNeverItsCentre) {
+  const DotScene scene;
+  TrainPerson crowd;
+  crowd.box = {0, 0, 320, 50};  // a band across the top of the image
+  crowd.ignore = true;
+  AugmentOptions o = geometry_only();
+  o.rotate_degrees = 20;
+  int crowds_seen = 0;
+  for (std::uint64_t key = 0; key < 20; ++key) {
+    const TrainSample with = augment(scene.rgb, {crowd, scene.person}, {}, o, 7, key);
+    const TrainSample without = augment(scene.rgb, {scene.person}, {}, o, 7, key);
+    // The same crop as without the region: the region is never the anchor and draws nothing.
+    EXPECT_EQ(cv::norm(with.rgb, without.rgb, cv::NORM_L1), 0.0) << key;
+    int people = 0;
+    for (const TrainPerson& p : with.people) {
+      if (!p.ignore) {
+        ++people;
+        continue;
+      }
+      ++crowds_seen;
+      EXPECT_GE(p.box.w, 1);
+      for (int k = 0; k < 17; ++k)
+        EXPECT_EQ(p.keypoints[3 * k + 2], 0) << "a region has no keypoints";
+    }
+    EXPECT_EQ(people, 1) << key;
+  }
+  EXPECT_GT(crowds_seen, 0);  // the band is in view in some crops
+}
+
 TEST(TrainSource, WeightAfterTheLastColon) {
   EXPECT_EQ(parse_train_source("a/b.json").coco, "a/b.json");
   EXPECT_EQ(parse_train_source("a/b.json:2.5").weight, 2.5);

@@ -27,11 +27,14 @@ constexpr double kCentreWeight = 1, kHeatmapWeight = 1, kRegressWeight = 0.1, kO
                  kScaleWeight = 0.1, kBoxOffsetWeight = 1;
 
 // CenterNet's penalty-reduced focal loss (α = 2, β = 4) over a heatmap, per positive cell.
-Tensor focal_loss(const Tensor& logits, const Tensor& target) {
+// `weight` (B×G×G×1, broadcast over channels; undefined = all 1) scales each cell's negative
+// term: crowd regions are neither positive nor negative.
+Tensor focal_loss(const Tensor& logits, const Tensor& target, const Tensor& weight) {
   const Tensor p = torch::sigmoid(logits).clamp(1e-4, 1 - 1e-4);
   const Tensor positive = target.ge(1.0).to(torch::kFloat);
   const Tensor pos_loss = torch::log(p) * (1 - p).pow(2) * positive;
-  const Tensor neg_loss = torch::log(1 - p) * p.pow(2) * (1 - target).pow(4) * (1 - positive);
+  Tensor neg_loss = torch::log(1 - p) * p.pow(2) * (1 - target).pow(4) * (1 - positive);
+  if (weight.defined()) neg_loss = neg_loss * weight;
   return -(pos_loss.sum() + neg_loss.sum()) / positive.sum().clamp_min(1.0);
 }
 
@@ -51,10 +54,14 @@ TrainBatch make_train_batch(const std::vector<TrainSample>& samples, int input_s
   batch.keypoint_heatmap = torch::empty({b, g, g, kKeypoints}, torch::kFloat);
   std::vector<std::int64_t> centre_index, keypoint_index, keypoint_channel;
   std::vector<float> regress, regress_mask, scale, box_offset, keypoint_offset;
+  std::vector<MovenetTargets> all_targets;
+  all_targets.reserve(samples.size());
+  bool any_crowd = false;
   for (int slot = 0; slot < b; ++slot) {
     const TrainSample& sample = samples[slot];
     WHEELPOSE_CHECK(sample.rgb.rows == s && sample.rgb.cols == s && sample.rgb.type() == CV_8UC3);
-    const MovenetTargets t = build_targets(sample.people, s);
+    const MovenetTargets& t = all_targets.emplace_back(build_targets(sample.people, s));
+    any_crowd |= !t.heatmap_weight.empty();
     cv::Mat f;
     sample.rgb.convertTo(f, CV_32FC3);
     batch.images[slot].copy_(torch::from_blob(f.data, {s, s, 3}, torch::kFloat));
@@ -74,6 +81,15 @@ TrainBatch make_train_batch(const std::vector<TrainSample>& samples, int input_s
       keypoint_index.push_back(base + k.cell);
       keypoint_channel.push_back(k.keypoint);
       keypoint_offset.insert(keypoint_offset.end(), k.offset.begin(), k.offset.end());
+    }
+  }
+  if (any_crowd) {
+    batch.heatmap_weight = torch::ones({b, g, g, 1}, torch::kFloat);
+    for (int slot = 0; slot < b; ++slot) {
+      const std::vector<float>& w = all_targets[slot].heatmap_weight;
+      if (w.empty()) continue;
+      batch.heatmap_weight[slot].copy_(
+          torch::from_blob(const_cast<float*>(w.data()), {g, g, 1}, torch::kFloat));
     }
   }
   auto longs = [](const std::vector<std::int64_t>& v) { return torch::tensor(v, torch::kLong); };
@@ -99,8 +115,9 @@ StepLosses compute_losses(const TensorMap& heads, const TrainBatch& b) {
   const Tensor& regress = heads.at(kMovenetHeads[4]);
   const Tensor& offset = heads.at(kMovenetHeads[5]);
   const double people = std::max<std::int64_t>(1, b.centre_index.size(0));
-  const Tensor l_centre = focal_loss(centre, b.centre_heatmap) * kCentreWeight;
-  const Tensor l_heatmap = focal_loss(heatmap, b.keypoint_heatmap) * kHeatmapWeight;
+  const Tensor l_centre = focal_loss(centre, b.centre_heatmap, b.heatmap_weight) * kCentreWeight;
+  const Tensor l_heatmap =
+      focal_loss(heatmap, b.keypoint_heatmap, b.heatmap_weight) * kHeatmapWeight;
   Tensor l_regress = torch::zeros({}), l_scale = torch::zeros({}), l_box = torch::zeros({}),
          l_offset = torch::zeros({});
   if (b.centre_index.size(0) > 0) {

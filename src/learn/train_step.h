@@ -20,9 +20,12 @@ namespace wheelpose::learn {
 extern const std::vector<std::string> kMovenetHeads;
 
 struct TrainBatch {
-  torch::Tensor images;                                             // B×S×S×3 float 0..255
-  torch::Tensor centre_heatmap;                                     // B×G×G×1
-  torch::Tensor keypoint_heatmap;                                   // B×G×G×17
+  torch::Tensor images;            // B×S×S×3 float 0..255
+  torch::Tensor centre_heatmap;    // B×G×G×1
+  torch::Tensor keypoint_heatmap;  // B×G×G×17
+  // B×G×G×1, 0 in crowd regions (MovenetTargets::heatmap_weight); undefined when no sample of
+  // the batch has one, so batches without crowds compute exactly what they did before.
+  torch::Tensor heatmap_weight;
   torch::Tensor centre_index;                                       // N (b·G² + cell)
   torch::Tensor regress, regress_mask, scale, box_offset;           // N×34, N×34, N×2, N×2
   torch::Tensor keypoint_index, keypoint_channel, keypoint_offset;  // M, M, M×2

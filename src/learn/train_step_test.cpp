@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <opencv2/core.hpp>
 
 namespace wheelpose::learn {
 namespace {
@@ -66,6 +67,47 @@ TEST(Distillation, VanishesAtAgreementAndPullsTowardTheTeacher) {
                  torch::cat({keypoints.slice(0, 0, 1), keypoints.slice(0, 0, 1)}));
   EXPECT_NEAR(loss_of(twice_shifted, twice).item<double>(),
               loss_of(one_shifted, one).item<double>(), 1e-4);
+}
+
+// A crowd region's cells are neither positive nor negative: a confident detection there costs
+// nothing, while without the region it is a false positive.
+TEST(CrowdRegions, ConfidenceInsideARegionCostsNothing) {
+  TrainSample sample;
+  sample.rgb = cv::Mat::zeros(64, 64, CV_8UC3);
+  TrainPerson person;
+  person.box = {36, 36, 20, 20};  // centre cell (11, 11) of the 16 × 16 grid
+  person.keypoints[3 * 5] = 40, person.keypoints[3 * 5 + 1] = 40, person.keypoints[3 * 5 + 2] = 2;
+  TrainPerson crowd;
+  crowd.box = {0, 0, 24, 24};  // cells 0..5 × 0..5
+  crowd.ignore = true;
+  sample.people = {person};
+  const TrainBatch plain = make_train_batch({sample}, 64);
+  EXPECT_FALSE(plain.heatmap_weight.defined());
+  sample.people = {person, crowd};
+  const TrainBatch with_crowd = make_train_batch({sample}, 64);
+  ASSERT_TRUE(with_crowd.heatmap_weight.defined());
+
+  const auto heads = [](double inside) {
+    torch::Tensor centre = torch::full({1, 16, 16, 1}, -6.0);
+    torch::Tensor heatmap = torch::full({1, 16, 16, 17}, -6.0);
+    centre.index_put_({0, torch::indexing::Slice(0, 6), torch::indexing::Slice(0, 6)}, inside);
+    heatmap.index_put_({0, torch::indexing::Slice(0, 6), torch::indexing::Slice(0, 6)}, inside);
+    return TensorMap{{kMovenetHeads[0], centre},
+                     {kMovenetHeads[1], torch::zeros({1, 16, 16, 2})},
+                     {kMovenetHeads[2], torch::zeros({1, 16, 16, 2})},
+                     {kMovenetHeads[3], heatmap},
+                     {kMovenetHeads[4], torch::zeros({1, 16, 16, 34})},
+                     {kMovenetHeads[5], torch::zeros({1, 16, 16, 34})}};
+  };
+  const StepReport quiet = compute_losses(heads(-6.0), with_crowd).parts;
+  const StepReport confident = compute_losses(heads(6.0), with_crowd).parts;
+  EXPECT_DOUBLE_EQ(confident.centre, quiet.centre);
+  EXPECT_DOUBLE_EQ(confident.keypoint_heatmap, quiet.keypoint_heatmap);
+  // Without the region the same confidence is punished.
+  EXPECT_GT(compute_losses(heads(6.0), plain).parts.centre, quiet.centre + 1.0);
+  // Outside regions nothing changes: with background values in the region's 36 cells the two
+  // batches differ only by those cells' tiny negative terms.
+  EXPECT_NEAR(compute_losses(heads(-6.0), plain).parts.centre, quiet.centre, 1e-5);
 }
 
 }  // namespace
