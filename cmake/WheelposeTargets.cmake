@@ -28,21 +28,25 @@ function(wheelpose_layer name)
   endif()
 endfunction()
 
-# wheelpose_test(NAME SOURCES ... DEPS ...) adds a GoogleTest executable registered with CTest.
+# wheelpose_test(NAME SOURCES ... DEPS ... [TIMEOUT seconds]) adds a GoogleTest executable
+# registered with CTest; each of its tests may take TIMEOUT seconds (default 600).
 # Tests find the shared data through WHEELPOSE_SHARED_DIR, the project through
 # WHEELPOSE_SOURCE_DIR and the CLI through WHEELPOSE_BINARY.
 function(wheelpose_test name)
   if(NOT WHEELPOSE_BUILD_TESTS)
     return()
   endif()
-  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "" "TIMEOUT" "SOURCES;DEPS" ${ARGN})
+  if(NOT ARG_TIMEOUT)
+    set(ARG_TIMEOUT 600)
+  endif()
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest_main GTest::gmock wheelpose_warnings)
   target_compile_definitions(${name} PRIVATE
     WHEELPOSE_SHARED_DIR="${WHEELPOSE_SHARED_DIR}"
     WHEELPOSE_SOURCE_DIR="${CMAKE_SOURCE_DIR}"
     WHEELPOSE_BINARY="${CMAKE_BINARY_DIR}/wheelpose")
-  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 600)
+  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT ${ARG_TIMEOUT})
 endfunction()
 
 # wheelpose_isa_tests(TARGET FILTER) runs TARGET's tests that match the GoogleTest FILTER once
