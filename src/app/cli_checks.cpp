@@ -25,14 +25,22 @@ std::string number_text(double v) {
 
 }  // namespace
 
+std::optional<double> parse_number(std::string_view text) {
+  double value = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size() ||
+      !std::isfinite(value)) {
+    return std::nullopt;
+  }
+  return value;
+}
+
 CLI::Validator number_from(double low, double high) {
   return CLI::Validator(
       [low, high](std::string& text) -> std::string {
-        double value = 0;
-        if (!parse_whole(text, value) || !std::isfinite(value)) {
-          return "'" + escape_bytes(text) + "' is not a number";
-        }
-        if (value < low || value > high) {
+        const std::optional<double> value = parse_number(text);
+        if (!value) return "'" + escape_bytes(text) + "' is not a number";
+        if (*value < low || *value > high) {
           return text + " is outside [" + number_text(low) + ", " + number_text(high) + "]";
         }
         return "";

@@ -4,7 +4,6 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
-#include <charconv>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -54,18 +53,14 @@ void run_blend(const ModelCommandOptions& o) {
   learn::BlendAlphas alphas{.alpha = o.alpha, .part_alphas = {}};
   for (const std::string& spec : o.part_alphas) {
     const std::size_t eq = spec.rfind('=');
-    double alpha = -1;
-    if (eq != std::string::npos && eq > 0) {
-      const char* first = spec.data() + eq + 1;
-      const char* last = spec.data() + spec.size();
-      const auto [end, ec] = std::from_chars(first, last, alpha);
-      if (ec != std::errc() || end != last || first == last) alpha = -1;
-    }
-    if (!(alpha >= 0 && alpha <= 1)) {
+    const std::optional<double> alpha = eq != std::string::npos && eq > 0
+                                            ? parse_number(std::string_view(spec).substr(eq + 1))
+                                            : std::nullopt;
+    if (!alpha || *alpha < 0 || *alpha > 1) {
       throw Error("--alpha-for: '" + escape_bytes(spec) +
                   "' is not PART=ALPHA with ALPHA a number in [0, 1]");
     }
-    alphas.part_alphas.emplace_back(spec.substr(0, eq), alpha);
+    alphas.part_alphas.emplace_back(spec.substr(0, eq), *alpha);
   }
   learn::blend_weights(start, tuned, alphas, o.out);
   spdlog::info("model blend: {} + {} x ({} - start) into {}", o.start, o.alpha, o.finetuned, o.out);
