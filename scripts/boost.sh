@@ -22,7 +22,7 @@
 #     transfer: also the realistic scenario (configs/boost-realistic-train.yaml) and standing
 #     people mixed in, people shown at every size from 30 px to filling the input
 #     (train --people-size 30:256); PULL > 0 also pulls the weights toward the pretrained
-#     ones (train --pull-to-start PULL). README's "Real photos" has what each part gains
+#     ones (train --pull-to-start PULL). docs/results.md, "Real photos", has what each part gains
 #   --ablate: also the training-set size ablation (scripts/ablate.sh; hours at full size)
 #   --mix-standing: also a run with standing people mixed into training (scripts/standing-mix.sh)
 #   --real COCO.json: real people to score on, repeatable (images in images/ beside it, or beside
@@ -102,7 +102,7 @@ else
 fi
 lr=${LR:-1e-4}
 freeze=${FREEZE:-0}
-# The transfer recipe's own settings (README, "Real photos": chosen on the real dev set).
+# The transfer recipe's own settings (docs/results.md, "Real photos": chosen on the real dev set).
 people_size=${PEOPLE_SIZE:-30:256}
 pull=${PULL:-0}
 distill=${DISTILL:-0}

@@ -9,7 +9,7 @@
 # usage: scripts/ship-model.sh [--real COCO.json]... [OUT (default out/ship)]
 #   --real: real photos to score on (box-only files too, e.g. scripts/real-photos.sh's); their
 #     numbers go into the model card. They are only measured on, never trained on.
-# The recipe (README, "Real photos"): the paper-preset training set at predict's scale, STEPS
+# The recipe (docs/results.md, "Real photos"): the paper-preset training set at predict's scale, STEPS
 # steps of 16 images, then the weight-space blend pretrained + WISE × (fine-tuned − pretrained).
 # Environment overrides: TRAIN_FRAMES (1000), VAL_FRAMES (100), TEST_FRAMES (200),
 # REALISTIC_TEST_FRAMES (200), STANDING_FRAMES (100), STEPS (1000), WISE (0.5), SHIP_DIR (the
@@ -140,7 +140,7 @@ WISE=1 ENSEMBLE=1 FLIP=1 REAL_SIZE=256 "$root/scripts/boost.sh" "${reals[@]}" "$
   echo "(\`--size 256\` for photos whose people are large, as in most real photos; the default input"
   echo "for wide frames of small people), which runs both models on the photo and on its mirror"
   echo "image and fuses the people they find"
-  echo "(scores averaged, boxes and keypoints score-weighted: README, \`wheelpose predict\`). Alone"
+  echo "(scores averaged, boxes and keypoints score-weighted: docs/commands/predict.md). Alone"
   echo "it forgets much of what the pretrained model knew about real people without wheelchairs;"
   echo "use \`movenet-wheelchair\` for a single model. Same topology, licence (Apache 2.0, derived"
   echo "from Google's MoveNet MultiPose Lightning) and training as \`movenet-wheelchair\` (see its"
@@ -157,7 +157,7 @@ WISE=1 ENSEMBLE=1 FLIP=1 REAL_SIZE=256 "$root/scripts/boost.sh" "${reals[@]}" "$
   echo "Pretrained MoveNet with \`--flip\` → the ensemble with \`--flip\` (change), in points, at"
   echo "\`predict\`'s default input, the real photos at \`--size 256\` (their best single size);"
   echo "scored with \`best.pt\` (float32; the shipped file holds float16). Without the mirror the"
-  echo "pretrained model is 1–2 points lower everywhere: README, \`wheelpose train\`, \"Real photos\"."
+  echo "pretrained model is 1–2 points lower everywhere: docs/results.md, \"Real photos\"."
   echo
   echo "| test set | keypoint AP | box AP | box AP50 |"
   echo "|---|---|---|---|"

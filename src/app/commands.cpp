@@ -15,6 +15,7 @@ void attach_realism(CLI::App& parent);
 void attach_train(CLI::App& parent);
 void attach_model(CLI::App& parent);
 void attach_demo(CLI::App& parent);
+void attach_experiment(CLI::App& parent);
 
 const std::vector<Command>& command_table() {
   static const std::vector<Command> table = {
@@ -22,7 +23,7 @@ const std::vector<Command>& command_table() {
       {"render", attach_render},   {"generate", attach_generate}, {"review", attach_review},
       {"coco", attach_coco},       {"stats", attach_stats},       {"predict", attach_predict},
       {"realism", attach_realism}, {"train", attach_train},       {"model", attach_model},
-      {"demo", attach_demo},
+      {"demo", attach_demo},       {"experiment", attach_experiment},
   };
   return table;
 }

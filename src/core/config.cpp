@@ -32,6 +32,15 @@ ConfigNode ConfigNode::load_string(const std::string& text, const std::string& o
   }
 }
 
+ConfigNode ConfigNode::from_yaml(YAML::Node root, const std::string& origin) {
+  auto shared = std::make_shared<Shared>();
+  shared->file = origin;
+  if (!root || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
+  ConfigNode node(shared, root, "");
+  if (!root.IsMap()) node.fail("the document must be a map of keys");
+  return node;
+}
+
 ConfigNode ConfigNode::load_file(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw Error(path + ": cannot open config file");

@@ -18,6 +18,8 @@ class ConfigNode {
   static ConfigNode load_file(const std::string& path);
   // Parses YAML text; `origin` names it in messages (e.g. "<built-in paper preset>").
   static ConfigNode load_string(const std::string& text, const std::string& origin);
+  // Wraps a parsed document (e.g. one edited after loading); `origin` names it in messages.
+  static ConfigNode from_yaml(YAML::Node root, const std::string& origin);
 
   bool has(const std::string& key) const;
   bool is_map() const { return node_.IsMap(); }

@@ -37,7 +37,7 @@ class Randomizer {
 struct RandomizerEntry {
   const char* name;
   // Markdown paragraph(s): what it randomizes, its parameters and their defaults, the paper's
-  // value and where we differ. The README's randomizer reference is generated from these.
+  // value and where we differ. The randomizer reference in docs/commands/generate.md is generated from these.
   const char* doc;
   bool enabled_by_default;
   // Builds the randomizer from its config section; nullptr = every parameter at its default.
@@ -48,7 +48,7 @@ struct RandomizerEntry {
 const std::vector<RandomizerEntry>& randomizer_registry();
 const RandomizerEntry* find_randomizer(const std::string& name);
 
-// The Markdown reference of every randomizer (README section "Randomizer reference").
+// The Markdown reference of every randomizer (docs/commands/generate.md, "Randomizer reference").
 std::string randomizer_reference_markdown();
 
 // ---- Helpers for randomizer files. ----

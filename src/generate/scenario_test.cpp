@@ -1,4 +1,4 @@
-// Scenario loading, randomizer streams, sharding and the generated README reference.
+// Scenario loading, randomizer streams, sharding and the generated randomizer reference.
 
 #include "generate/scenario.h"
 
@@ -150,8 +150,8 @@ TEST(PoissonDisk, PointsKeepTheirSeparationAndFillTheArea) {
   }
 }
 
-TEST(RandomizerReference, ReadmeSectionIsTheGeneratedReference) {
-  const std::string readme = read(WHEELPOSE_SOURCE_DIR "/README.md");
+TEST(RandomizerReference, GenerateGuideSectionIsTheGeneratedReference) {
+  const std::string readme = read(WHEELPOSE_SOURCE_DIR "/docs/commands/generate.md");
   const std::string begin = "<!-- randomizer-reference:begin -->\n";
   const std::string end = "<!-- randomizer-reference:end -->";
   const auto b = readme.find(begin), e = readme.find(end);

@@ -24,7 +24,7 @@ struct TrainOptions {
   int batch = 16;
   // The heads' rate. Adam on the pretrained net with its folded batch norm is fragile: one
   // step at 2.5e-5 on every parameter multiplied the centre loss by 1000, the heads alone are
-  // stable at 1e-4 — hence the backbone's much lower rate. The pilot in README used these.
+  // stable at 1e-4 — hence the backbone's much lower rate. The pilot in docs/results.md used these.
   double learning_rate = 1e-4;
   double weight_decay = 1e-4;
   int warmup_steps = 50;

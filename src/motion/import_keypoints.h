@@ -1,6 +1,6 @@
 #pragma once
 // 3D keypoint sequences in CSV or JSON with a named joint layout ("wheelpose23": our own joint
-// names; "blazepose33": MediaPipe Pose world landmarks). Formats are documented in the README
+// names; "blazepose33": MediaPipe Pose world landmarks). Formats are documented in docs/commands/motion.md,
 // section "Motion import"; in short:
 //   CSV long form:  header `frame,joint,x,y,z`, one row per frame and joint;
 //   CSV wide form:  header `frame,<joint>_x,<joint>_y,<joint>_z,...`, one row per frame;

@@ -1,0 +1,108 @@
+#include "experiment/plan.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "experiment/experiment_test_support.h"
+
+namespace wheelpose::experiment {
+namespace {
+
+using ::testing::ElementsAre;
+using testing::kSmallExperiment;
+using testing::scratch_dir;
+using testing::test_commands;
+
+std::vector<std::string> ids_of(const Plan& plan, const std::string& kind) {
+  std::vector<std::string> ids;
+  for (const Step& s : plan.steps) {
+    if (s.kind == kind) ids.push_back(s.id);
+  }
+  return ids;
+}
+
+TEST(ExperimentPlan, VariantsShareWhatTheyHaveInCommon) {
+  const auto dir = scratch_dir("plan");
+  const auto variants = parse_experiment(kSmallExperiment, "exp.yaml", dir, test_commands());
+  const Plan plan = make_plan(variants, dir / "run");
+  // One generation and one split for all three variants; a training each.
+  EXPECT_EQ(ids_of(plan, "generate").size(), 1u);
+  EXPECT_EQ(ids_of(plan, "split").size(), 1u);
+  EXPECT_EQ(ids_of(plan, "train").size(), 3u);
+  EXPECT_EQ(ids_of(plan, "blend").size(), 3u);
+  // The untrained start scores once; the trained models per variant: 1 + 3 × 2 on the real
+  // set, 3 on the renders (only `tuned`).
+  EXPECT_EQ(ids_of(plan, "score").size(), 1u + 6u + 3u);
+  EXPECT_EQ(plan.scores.size(), 3u * 3u + 3u);
+  // Steps come after the steps whose output they read.
+  const auto index = [&](const std::string& kind) {
+    return std::find_if(plan.steps.begin(), plan.steps.end(),
+                        [&](const Step& s) { return s.kind == kind; }) -
+           plan.steps.begin();
+  };
+  EXPECT_LT(index("split"), index("train"));
+  EXPECT_LT(index("train"), index("blend"));
+}
+
+TEST(ExperimentPlan, CommandsAreWhatTheFileSays) {
+  const auto dir = scratch_dir("commands");
+  const auto variants = parse_experiment(kSmallExperiment, "exp.yaml", dir, test_commands());
+  const Plan plan = make_plan({variants[0]}, dir / "run");
+  const auto step = [&](const std::string& kind) {
+    return *std::find_if(plan.steps.begin(), plan.steps.end(),
+                         [&](const Step& s) { return s.kind == kind; });
+  };
+  const Step generate = step("generate");
+  EXPECT_THAT(generate.commands[0],
+              ElementsAre("generate", "--out", generate.dir.string(), "--frames", "8", "--seed",
+                          "5", "--config", (dir / "scene.yaml").string()));
+  EXPECT_TRUE(generate.resumable);
+  const Step split = step("split");
+  EXPECT_THAT(split.commands[0],
+              ElementsAre("coco", "split", (dir / "real.json").string(), "--ratios", "3,1",
+                          "--names", "part0,part1", "--group-by", "image", "--seed", "0", "--out",
+                          split.dir.string()));
+  EXPECT_EQ(split.link_images, dir / "photos");
+  const Step train = step("train");
+  EXPECT_THAT(train.commands[0],
+              ElementsAre("train", "--train", (generate.dir / "annotations.json").string(),
+                          "--train", (split.dir / "part0.json").string() + ":3", "--val",
+                          (split.dir / "part1.json").string(), "--steps", "20", "--batch", "4",
+                          "--out", train.dir.string()));
+  const Step blend = step("blend");
+  EXPECT_THAT(blend.commands[0],
+              ElementsAre("model", "blend", "--start", "movenet-multipose", "--finetuned",
+                          (train.dir / "best.pt").string(), "--alpha", "0.5", "--out",
+                          (blend.dir / "blend.pt").string()));
+  const Step score = step("score");
+  ASSERT_EQ(score.commands.size(), 2u);
+  EXPECT_THAT(score.commands[0],
+              ElementsAre("predict", "--model", (dir / "model.json").string(), "--coco",
+                          (dir / "real.json").string(), "--images", (dir / "photos").string(),
+                          "--size", "256", "--out", (score.dir / "results.json").string()));
+  EXPECT_THAT(score.commands[1], ElementsAre("eval", "--gt", (dir / "real.json").string(), "--dt",
+                                             (score.dir / "results.json").string(), "--type",
+                                             "bbox", "--out", score.dir.string()));
+}
+
+TEST(ExperimentPlan, StepsAreNamedByWhatTheyDoNotWhereTheRunLives) {
+  const auto dir = scratch_dir("names");
+  const auto variants = parse_experiment(kSmallExperiment, "exp.yaml", dir, test_commands());
+  const Plan a = make_plan(variants, dir / "run-a");
+  const Plan b = make_plan(variants, dir / "elsewhere" / "run-b");
+  ASSERT_EQ(a.steps.size(), b.steps.size());
+  for (std::size_t i = 0; i < a.steps.size(); ++i) EXPECT_EQ(a.steps[i].id, b.steps[i].id);
+  // A changed setting is a new step, never a reused one.
+  const std::string more =
+      std::string(kSmallExperiment)
+          .replace(std::string(kSmallExperiment).find("steps: 20"), 9, "steps: 21");
+  const Plan c = make_plan(parse_experiment(more, "exp.yaml", dir, test_commands()), dir / "run-a");
+  EXPECT_EQ(ids_of(a, "generate"), ids_of(c, "generate"));
+  EXPECT_NE(ids_of(a, "train"), ids_of(c, "train"));
+  EXPECT_EQ(stable_hash("wheelpose"), "35192a84071ac219");  // FNV-1a 64, never a per-run hash
+}
+
+}  // namespace
+}  // namespace wheelpose::experiment
