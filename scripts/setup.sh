@@ -54,7 +54,7 @@ fi
 # The demo page (`wheelpose demo`) serves TF.js to the browser from web/demo/node_modules,
 # pinned by web/demo/package-lock.json: nothing is loaded from the internet at run time.
 demo_web="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/web/demo"
-if [ ! -d "$demo_web/node_modules/@tensorflow/tfjs-converter" ]; then
+if [ ! -d "$demo_web/node_modules/@tensorflow/tfjs-backend-wasm" ]; then
   echo "setup: npm ci in web/demo"
   (cd "$demo_web" && npm ci --no-audit --no-fund)
 fi

@@ -63,6 +63,17 @@ TEST(DemoCli, SlowOrMalformedClientsDoNotStallTheServer) {
   wheelpose::testing::ChildServer server;
   server.start({"demo", "--port", std::to_string(port)}, dir / "demo.log");
   wheelpose::testing::expect_slow_and_malformed_clients_refused(port, "/index.html", 16);
+  // The WebAssembly backend: its binaries as application/wasm (browsers compile them while they
+  // download only then), and a policy that lets the page compile them and nothing more.
+  const std::string wasm = wheelpose::testing::exchange(
+      port,
+      "GET /tfjs/tfjs-backend-wasm/dist/tfjs-backend-wasm-simd.wasm HTTP/1.1\r\nHost: x\r\n"
+      "Connection: close\r\n\r\n",
+      5);
+  EXPECT_EQ(wheelpose::testing::status_of(wasm), 200);
+  EXPECT_NE(wasm.find("Content-Type: application/wasm"), std::string::npos) << wasm.substr(0, 400);
+  EXPECT_NE(wasm.find("script-src 'self' 'wasm-unsafe-eval';"), std::string::npos);
+  EXPECT_EQ(wasm.find("unsafe-inline"), std::string::npos);
 }
 
 }  // namespace

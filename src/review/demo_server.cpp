@@ -77,7 +77,9 @@ void serve_demo(DemoOptions options) {
 
   httplib::Server http;
   set_connection_limits(http, kMaxDemoRequestBytes);
-  set_security_headers(http, /*allow_blob_images=*/true);
+  set_security_headers(http, {.blob_images = true, .wasm = true});
+  // Browsers compile WebAssembly while it downloads only when it is served as such.
+  http.set_file_extension_and_mimetype_mapping("wasm", "application/wasm");
   for (const auto& [prefix, dir] : std::vector<std::pair<std::string, fs::path>>{
            {"/tfjs", tfjs}, {"/examples", options.examples_dir}}) {
     if (!http.set_mount_point(prefix, dir.string())) {

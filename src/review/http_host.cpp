@@ -17,12 +17,13 @@ sigset_t block_stop_signals() {
   return signals;
 }
 
-void set_security_headers(httplib::Server& http, bool allow_blob_images) {
+void set_security_headers(httplib::Server& http, PagePolicy policy) {
   const std::string images =
-      allow_blob_images ? "img-src 'self' data: blob:; " : "img-src 'self' data:; ";
+      policy.blob_images ? "img-src 'self' data: blob:; " : "img-src 'self' data:; ";
+  const std::string wasm = policy.wasm ? "script-src 'self' 'wasm-unsafe-eval'; " : "";
   http.set_default_headers({
       {"Content-Security-Policy",
-       "default-src 'self'; " + images +
+       "default-src 'self'; " + images + wasm +
            "object-src 'none'; frame-ancestors 'none'; base-uri 'none'; form-action 'none'"},
       {"X-Content-Type-Options", "nosniff"},
       {"Referrer-Policy", "no-referrer"},

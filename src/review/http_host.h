@@ -14,9 +14,15 @@ namespace wheelpose::review {
 // Blocks SIGINT and SIGTERM in this thread and every thread it starts later; call first.
 sigset_t block_stop_signals();
 
-// Content-Security-Policy (self only; images also from data: and blob: when allow_blob_images),
-// nosniff, no referrer, no framing.
-void set_security_headers(httplib::Server& http, bool allow_blob_images = false);
+// What a page may do beyond loading its own files.
+struct PagePolicy {
+  bool blob_images = false;  // images from blob: URLs (a photo the user drops)
+  bool wasm = false;  // compiling WebAssembly (TF.js's wasm backend)
+};
+
+// Content-Security-Policy (self only, plus what `policy` allows), nosniff, no referrer, no
+// framing.
+void set_security_headers(httplib::Server& http, PagePolicy policy = {});
 
 // Connection limits and request checks both servers share, so that neither a slow client nor a
 // malformed request holds or confuses them: 64 workers (one per open connection), a client

@@ -61,6 +61,24 @@ try {
   await waitFor((name) => window.demoState.image === name && !window.demoState.busy, example,
     'the results');
   const results = await page.evaluate(() => window.demoState.results);
+  const backend = await page.evaluate(() => window.demoState.backend);
+  assert.equal(backend, 'wasm', 'the page must run on the WebAssembly backend');
+  // The time a user waits for the three panels, cold (the first photo) and warm (the next).
+  const cold = await page.evaluate(() => window.demoState.seconds);
+  await page.evaluate(() => { window.demoState.seconds = null; });
+  await page.click('#show-example');
+  await waitFor(() => window.demoState.seconds !== null, null, 'the second run');
+  const warm = await page.evaluate(() => window.demoState.seconds);
+  const [width, height] = await page.evaluate(() => {
+    const c = document.getElementById('canvas-pretrained');
+    return [c.width, c.height];
+  });
+  console.log(`benchmark: demo three panels on ${example} (${width}x${height}), ${backend} backend: ` +
+    `${cold.toFixed(2)} s cold, ${warm.toFixed(2)} s warm`);
+  // The three panels line up: their pictures start at the same height whatever the titles do.
+  const tops = await page.evaluate(() => ['pretrained', 'wheelchair', 'ensemble'].map(
+    (k) => document.getElementById('canvas-' + k).getBoundingClientRect().top));
+  assert.ok(Math.max(...tops) - Math.min(...tops) < 1, `the panels' pictures start at ${tops.join(', ')}`);
 
   // Every person the page draws (score >= 0.2) is one `predict` found: same score within 0.03,
   // confident keypoints within 1 px (the page resizes like OpenCV).

@@ -17,7 +17,7 @@ const PREDICT_MIN_SCORE = 0.05;  // predict's --min-score: each ensemble view ke
 const COLOURS = ['#e6194b', '#3cb44b', '#4363d8', '#f58231', '#911eb4', '#42d4f4'];
 
 // What the page did, for people and for the browser test.
-window.demoState = { ready: false, busy: false, image: null, results: {}, error: null };
+window.demoState = { ready: false, busy: false, image: null, results: {}, error: null, backend: null, seconds: null };
 const models = {};
 
 const $ = (id) => document.getElementById(id);
@@ -240,6 +240,7 @@ async function runAll(image, name) {
   if (!window.demoState.ready) return;
   window.demoState.busy = true;
   setStatus(`Running the models on ${name}…`);
+  const start = performance.now();
   const minScore = Math.min(1, Math.max(0, Number($('min-score').value) || 0));
   const box = letterbox(image);
   const results = {};
@@ -262,10 +263,12 @@ async function runAll(image, name) {
     box.mirrored.dispose();
     window.demoState.busy = false;
   }
+  const seconds = (performance.now() - start) / 1000;
+  window.demoState.seconds = seconds;
   window.demoState.image = name;
   window.demoState.results = results;
   const count = (key) => results[key].length;
-  setStatus(`${name}: pretrained found ${count('pretrained')}, wheelchair model ${count('wheelchair')}, ensemble ${count('ensemble')} (score ≥ ${minScore}).`);
+  setStatus(`${name}: pretrained found ${count('pretrained')}, wheelchair model ${count('wheelchair')}, ensemble ${count('ensemble')} (score ≥ ${minScore}); ${seconds.toFixed(1)} s (${window.demoState.backend}).`);
 }
 
 function loadImage(url, name) {
@@ -284,6 +287,26 @@ function openFile(file) {
   loadImage(URL.createObjectURL(file), file.name);
 }
 
+// TF.js's WebAssembly backend (with SIMD where the browser has it), else the plain JavaScript
+// one. One thread: TF.js 4.22's threaded build, tried with the page cross-origin isolated, never
+// reported ready in chromium (no error, it hangs), and single-threaded SIMD answers in about a
+// second.
+async function chooseBackend() {
+  try {
+    tf.wasm.setWasmPaths('/tfjs/tfjs-backend-wasm/dist/');
+    tf.env().set('WASM_HAS_MULTITHREAD_SUPPORT', false);
+    if (await tf.setBackend('wasm')) {
+      await tf.ready();
+      return 'wasm';
+    }
+  } catch (e) {
+    console.warn(`WebAssembly backend unavailable (${e.message}); using the JavaScript one`);
+  }
+  await tf.setBackend('cpu');
+  await tf.ready();
+  return 'cpu';
+}
+
 async function init() {
   const config = await (await fetch('/api/config')).json();
   const select = $('example');
@@ -296,13 +319,12 @@ async function init() {
   for (const m of config.models) {
     $('title-' + m.key).textContent = `${$('title-' + m.key).textContent} (${m.name})`;
   }
-  await tf.setBackend('cpu');
-  await tf.ready();
+  window.demoState.backend = await chooseBackend();
   for (const key of ['pretrained', 'wheelchair', 'ensemble']) {
     models[key] = await tf.loadGraphModel(`/models/${key}/model.json`);
   }
   window.demoState.ready = true;
-  setStatus('Models loaded. Choose or drop a photo, or show an example.');
+  setStatus(`Models loaded (${window.demoState.backend === 'wasm' ? 'WebAssembly' : 'JavaScript'} backend). Choose or drop a photo, or show an example.`);
 }
 
 $('file').addEventListener('change', (e) => openFile(e.target.files[0]));
