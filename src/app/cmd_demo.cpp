@@ -1,5 +1,5 @@
 // `wheelpose demo`: the pretrained and the wheelchair model side by side on a dropped photo, and
-// the real-photo ensemble, run in the browser by TF.js (review/demo_server.h).
+// the real-photo ensemble, run in the browser by TF.js (demo/demo_server.h).
 
 #include <CLI/CLI.hpp>
 #include <filesystem>
@@ -7,8 +7,8 @@
 #include <optional>
 #include <string>
 
+#include "demo/demo_server.h"
 #include "learn/model_files.h"
-#include "review/demo_server.h"
 
 namespace wheelpose::app {
 namespace {
@@ -16,7 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct DemoCommandOptions {
-  review::DemoOptions server;
+  demo::DemoOptions server;
   std::string pretrained = "movenet-multipose";
   std::string wheelchair = "movenet-wheelchair";
   std::string ensemble = "movenet-wheelchair-full";
@@ -33,7 +33,7 @@ void run_demo(DemoCommandOptions o) {
   o.server.ensemble_topology = learn::resolve_model(o.ensemble, models_dir);
   o.server.web_dir = o.web;            // empty: the checkout's web/demo
   o.server.examples_dir = o.examples;  // empty: WEB/examples
-  review::serve_demo(o.server);
+  demo::serve_demo(o.server);
 }
 
 }  // namespace

@@ -55,7 +55,7 @@ void attach_serve(CLI::App& review) {
   c->add_option("--db", *db, "SQLite database (created if missing)")->required();
   c->add_option("--port", o->port, "TCP port (0 picks a free one)")->check(CLI::Range(0, 65535));
   c->add_option("--bind", o->bind, "Address to listen on (default: this machine only)");
-  c->add_option("--web", *web, "Folder of the page (default: the source tree's web/)");
+  c->add_option("--web", *web, "Folder of the page (default: the source tree's web/review)");
   c->callback([o, folders, db, web] {
     for (const auto& f : *folders) o->clip_folders.emplace_back(f);
     o->db = *db;

@@ -11,9 +11,9 @@
 
 #include "core/error.h"
 #include "core/random.h"
+#include "http/http_host.h"
 #include "review/analysis.h"
 #include "review/clips.h"
-#include "review/http_host.h"
 #include "review/store.h"
 
 namespace wheelpose::review {
@@ -82,104 +82,105 @@ class ReviewServer {
   ReviewServer(ReviewStore& store, const ClipCatalog& catalog)
       : store_(store), catalog_(catalog), admin_token_(store.admin_token()) {}
 
-  void install(httplib::Server& http) {
-    http.Get("/api/session", wrap([this](const auto& req, auto& res) {
-               send_json(res, session(participant(req)));
-             }));
-    http.Get("/api/clip", wrap([this](const auto& req, auto& res) {
-               participant(req);
-               const std::string id = req.get_param_value("id");
-               if (!catalog_.contains(id)) throw HttpError{404, "unknown clip id"};
-               res.set_header("Cache-Control", "private, max-age=3600");
-               res.set_content(catalog_.payload(id), "application/json; charset=utf-8");
-             }));
-    http.Post("/api/consent", wrap([this](const auto& req, auto& res) {
-                const Participant p = participant(req);
-                const json body = parse_object(req);
-                reject_unknown_keys(body, {"consent"});
-                if (!body.contains("consent") || body["consent"] != true) {
-                  throw HttpError{400, "consent must be true"};
-                }
-                store_.set_consent(p.id);
-                send_json(res, {{"ok", true}});
-              }));
-    http.Put("/api/questionnaire", wrap([this](const auto& req, auto& res) {
-               const Participant p = consented(req);
-               const json body = parse_object(req);
-               reject_unknown_keys(body, {"age", "gender", "occupation", "condition", "level",
-                                          "exercise", "mobility"});
-               json clean = json::object();
-               if (body.contains("age") && !body["age"].is_null()) {
-                 const json& age = body["age"];
-                 if (!age.is_number_integer() || age.get<long long>() < 18 ||
-                     age.get<long long>() > 120) {
-                   throw HttpError{400, "age must be a whole number from 18 to 120"};
+  void install(httplib::Server& server) {
+    server.Get("/api/session", wrap([this](const auto& req, auto& res) {
+                 send_json(res, session(participant(req)));
+               }));
+    server.Get("/api/clip", wrap([this](const auto& req, auto& res) {
+                 participant(req);
+                 const std::string id = req.get_param_value("id");
+                 if (!catalog_.contains(id)) throw HttpError{404, "unknown clip id"};
+                 res.set_header("Cache-Control", "private, max-age=3600");
+                 res.set_content(catalog_.payload(id), "application/json; charset=utf-8");
+               }));
+    server.Post("/api/consent", wrap([this](const auto& req, auto& res) {
+                  const Participant p = participant(req);
+                  const json body = parse_object(req);
+                  reject_unknown_keys(body, {"consent"});
+                  if (!body.contains("consent") || body["consent"] != true) {
+                    throw HttpError{400, "consent must be true"};
+                  }
+                  store_.set_consent(p.id);
+                  send_json(res, {{"ok", true}});
+                }));
+    server.Put("/api/questionnaire", wrap([this](const auto& req, auto& res) {
+                 const Participant p = consented(req);
+                 const json body = parse_object(req);
+                 reject_unknown_keys(body, {"age", "gender", "occupation", "condition", "level",
+                                            "exercise", "mobility"});
+                 json clean = json::object();
+                 if (body.contains("age") && !body["age"].is_null()) {
+                   const json& age = body["age"];
+                   if (!age.is_number_integer() || age.get<long long>() < 18 ||
+                       age.get<long long>() > 120) {
+                     throw HttpError{400, "age must be a whole number from 18 to 120"};
+                   }
+                   clean["age"] = age.get<long long>();
+                 } else {
+                   clean["age"] = nullptr;
                  }
-                 clean["age"] = age.get<long long>();
-               } else {
-                 clean["age"] = nullptr;
-               }
-               for (const char* key :
-                    {"gender", "occupation", "condition", "level", "exercise", "mobility"}) {
-                 clean[key] = text_field(body, key, 500);
-               }
-               store_.set_questionnaire(p.id, clean.dump());
-               send_json(res, {{"ok", true}});
-             }));
-    http.Put("/api/rating", wrap([this](const auto& req, auto& res) {
-               const Participant p = consented(req);
-               const json body = parse_object(req);
-               reject_unknown_keys(body, {"clip", "q1", "q2", "q3"});
-               if (!body.contains("clip") || !body["clip"].is_string() ||
-                   !catalog_.contains(body["clip"].get<std::string>())) {
-                 throw HttpError{400, "clip must be the id of a clip in this study"};
-               }
-               Rating r;
-               r.participant_id = p.id;
-               r.clip_id = body["clip"].get<std::string>();
-               r.q1 = likert(body, "q1");
-               r.q2 = likert(body, "q2");
-               if (body.contains("q3") && !body["q3"].is_null()) {
-                 if (!body["q3"].is_boolean()) throw HttpError{400, "q3 must be true or false"};
-                 r.q3 = body["q3"].get<bool>();
-               }
-               if (!r.q1 && !r.q2 && !r.q3) throw HttpError{400, "give at least one of q1, q2, q3"};
-               store_.save_rating(r);
-               send_json(res, {{"ok", true}});
-             }));
-    http.Put("/api/free-text", wrap([this](const auto& req, auto& res) {
-               const Participant p = consented(req);
-               const json body = parse_object(req);
-               reject_unknown_keys(body, {"criteria", "frequency", "missing"});
-               json clean = json::object();
-               for (const char* key : {"criteria", "frequency", "missing"}) {
-                 clean[key] = text_field(body, key, 5000);
-               }
-               store_.set_free_text(p.id, clean.dump());
-               send_json(res, {{"ok", true}});
-             }));
-    http.Post("/api/finish", wrap([this](const auto& req, auto& res) {
-                const Participant p = consented(req);
-                store_.set_finished(p.id);
-                send_json(res, {{"ok", true}});
-              }));
-    http.Get("/api/admin/status", wrap([this](const auto& req, auto& res) {
-               admin(req);
-               send_json(res, status_json(store_));
-             }));
-    http.Get("/api/admin/export", wrap([this](const auto& req, auto& res) {
-               admin(req);
-               const std::string format =
-                   req.has_param("format") ? req.get_param_value("format") : std::string("json");
-               if (format == "csv") {
-                 res.set_header("Cache-Control", "no-store");
-                 res.set_content(export_csv(store_), "text/csv; charset=utf-8");
-               } else if (format == "json") {
-                 send_json(res, export_json(store_));
-               } else {
-                 throw HttpError{400, "format must be csv or json"};
-               }
-             }));
+                 for (const char* key :
+                      {"gender", "occupation", "condition", "level", "exercise", "mobility"}) {
+                   clean[key] = text_field(body, key, 500);
+                 }
+                 store_.set_questionnaire(p.id, clean.dump());
+                 send_json(res, {{"ok", true}});
+               }));
+    server.Put("/api/rating", wrap([this](const auto& req, auto& res) {
+                 const Participant p = consented(req);
+                 const json body = parse_object(req);
+                 reject_unknown_keys(body, {"clip", "q1", "q2", "q3"});
+                 if (!body.contains("clip") || !body["clip"].is_string() ||
+                     !catalog_.contains(body["clip"].get<std::string>())) {
+                   throw HttpError{400, "clip must be the id of a clip in this study"};
+                 }
+                 Rating r;
+                 r.participant_id = p.id;
+                 r.clip_id = body["clip"].get<std::string>();
+                 r.q1 = likert(body, "q1");
+                 r.q2 = likert(body, "q2");
+                 if (body.contains("q3") && !body["q3"].is_null()) {
+                   if (!body["q3"].is_boolean()) throw HttpError{400, "q3 must be true or false"};
+                   r.q3 = body["q3"].get<bool>();
+                 }
+                 if (!r.q1 && !r.q2 && !r.q3)
+                   throw HttpError{400, "give at least one of q1, q2, q3"};
+                 store_.save_rating(r);
+                 send_json(res, {{"ok", true}});
+               }));
+    server.Put("/api/free-text", wrap([this](const auto& req, auto& res) {
+                 const Participant p = consented(req);
+                 const json body = parse_object(req);
+                 reject_unknown_keys(body, {"criteria", "frequency", "missing"});
+                 json clean = json::object();
+                 for (const char* key : {"criteria", "frequency", "missing"}) {
+                   clean[key] = text_field(body, key, 5000);
+                 }
+                 store_.set_free_text(p.id, clean.dump());
+                 send_json(res, {{"ok", true}});
+               }));
+    server.Post("/api/finish", wrap([this](const auto& req, auto& res) {
+                  const Participant p = consented(req);
+                  store_.set_finished(p.id);
+                  send_json(res, {{"ok", true}});
+                }));
+    server.Get("/api/admin/status", wrap([this](const auto& req, auto& res) {
+                 admin(req);
+                 send_json(res, status_json(store_));
+               }));
+    server.Get("/api/admin/export", wrap([this](const auto& req, auto& res) {
+                 admin(req);
+                 const std::string format =
+                     req.has_param("format") ? req.get_param_value("format") : std::string("json");
+                 if (format == "csv") {
+                   res.set_header("Cache-Control", "no-store");
+                   res.set_content(export_csv(store_), "text/csv; charset=utf-8");
+                 } else if (format == "json") {
+                   send_json(res, export_json(store_));
+                 } else {
+                   throw HttpError{400, "format must be csv or json"};
+                 }
+               }));
   }
 
  private:
@@ -281,7 +282,7 @@ std::string participant_link(const std::string& base_url, const std::string& tok
 
 void serve(const ServeOptions& options) {
   // Block the stop signals in every thread; one thread waits for them and stops the server.
-  const sigset_t signals = block_stop_signals();
+  const sigset_t signals = http::block_stop_signals();
 
   const ClipCatalog catalog(options.clip_folders);
   bool created = false;
@@ -289,36 +290,37 @@ void serve(const ServeOptions& options) {
   store.register_clips(catalog.records());
 
   std::filesystem::path web = options.web_dir.empty()
-                                  ? std::filesystem::path(WHEELPOSE_SOURCE_DIR) / "web"
+                                  ? std::filesystem::path(WHEELPOSE_SOURCE_DIR) / "web" / "review"
                                   : options.web_dir;
   if (!std::filesystem::is_regular_file(web / "index.html")) {
-    throw Error(web.string() + ": no index.html (give --web DIR, the repository's web/ folder)");
+    throw Error(web.string() +
+                ": no index.html (give --web DIR, the repository's web/review folder)");
   }
 
-  httplib::Server http;
+  httplib::Server server;
   // Enough workers that a study's participants never queue behind each other (SQLite writes are
   // serialised anyway), and short read timeouts so silent clients do not hold them.
-  set_connection_limits(http, kMaxRequestBytes);
-  set_security_headers(http);
+  http::set_connection_limits(server, kMaxRequestBytes);
+  http::set_security_headers(server);
   ReviewServer api(store, catalog);
-  api.install(http);
-  if (!http.set_mount_point("/", web.string())) {
+  api.install(server);
+  if (!server.set_mount_point("/", web.string())) {
     throw Error(web.string() + ": cannot serve this folder", ErrorKind::kFailure);
   }
-  http.set_error_handler([](const httplib::Request&, httplib::Response& res) {
+  server.set_error_handler([](const httplib::Request&, httplib::Response& res) {
     if (res.body.empty()) {
       res.set_content(json{{"error", "HTTP " + std::to_string(res.status)}}.dump(),
                       "application/json; charset=utf-8");
     }
   });
 
-  const std::string url = bind_server(http, options.bind, options.port);
+  const std::string url = http::bind_server(server, options.bind, options.port);
   if (created) std::printf("admin token (shown once, keep it): %s\n", store.admin_token().c_str());
   std::printf("serving %zu clips in %zu groups from %s\nlistening on %s\n", catalog.size(),
               catalog.groups().size(), options.db.c_str(), url.c_str());
   std::fflush(stdout);
 
-  listen_until_signal(http, signals);
+  http::listen_until_signal(server, signals);
 }
 
 }  // namespace wheelpose::review

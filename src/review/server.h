@@ -1,5 +1,5 @@
 #pragma once
-// `wheelpose review serve`: the study's HTTP server. Static page from web/, JSON API under /api.
+// `wheelpose review serve`: the study's HTTP server. Static page from web/review/, JSON API under /api.
 // Participant endpoints take the participant's token (Authorization: Bearer <token>) and only
 // ever touch that participant's rows; /api/admin/* take the admin token. Every body is validated
 // before it reaches the store; bodies over 64 KiB are refused.
@@ -16,7 +16,7 @@ struct ServeOptions {
   std::filesystem::path db;
   std::string bind = "127.0.0.1";
   int port = 8080;                // 0 picks a free port (printed)
-  std::filesystem::path web_dir;  // empty: the source tree's web/
+  std::filesystem::path web_dir;  // empty: the source tree's web/review
 };
 
 inline constexpr std::size_t kMaxRequestBytes = 64 * 1024;

@@ -28,7 +28,7 @@ const invite = run('review', 'invite', '--db', db, '--name', 'P1');
 const token = /#token=([0-9a-f]{64})/.exec(invite)[1];
 
 const { server, url } = await startServer(binary, ['review', 'serve', '--clips', path.join(work, 'humanml'),
-  path.join(work, 'text2motion'), '--db', db, '--port', '0', '--web', path.join(repo, 'web')]);
+  path.join(work, 'text2motion'), '--db', db, '--port', '0', '--web', path.join(repo, 'web', 'review')]);
 const { page, close } = await launchBrowser({ width: 1280, height: 900 });
 let failed = false;
 try {

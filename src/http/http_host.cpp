@@ -1,4 +1,4 @@
-#include "review/http_host.h"
+#include "http/http_host.h"
 
 #include <pthread.h>
 
@@ -6,7 +6,7 @@
 
 #include "core/error.h"
 
-namespace wheelpose::review {
+namespace wheelpose::http {
 
 sigset_t block_stop_signals() {
   sigset_t signals;
@@ -99,4 +99,4 @@ void listen_until_signal(httplib::Server& http, const sigset_t& signals) {
   }
 }
 
-}  // namespace wheelpose::review
+}  // namespace wheelpose::http

@@ -1,4 +1,4 @@
-#include "review/demo_server.h"
+#include "demo/demo_server.h"
 
 #include <httplib.h>
 
@@ -11,9 +11,9 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/image_files.h"
-#include "review/http_host.h"
+#include "http/http_host.h"
 
-namespace wheelpose::review {
+namespace wheelpose::demo {
 namespace {
 
 namespace fs = std::filesystem;
@@ -34,7 +34,7 @@ void require_dir(const fs::path& dir, const std::string& what) {
 
 // Serves `topology` as PREFIX/model.json and its folder under PREFIX, where TF.js looks for the
 // shards its manifest names (relative to model.json).
-void mount_model(httplib::Server& http, const std::string& prefix, const fs::path& topology) {
+void mount_model(httplib::Server& server, const std::string& prefix, const fs::path& topology) {
   require_file(topology, "a TF.js model.json");
   const json doc = json::parse(read_file(topology), nullptr, /*allow_exceptions=*/false);
   if (!doc.is_object() || !doc.contains("weightsManifest") || !doc["weightsManifest"].is_array()) {
@@ -48,10 +48,10 @@ void mount_model(httplib::Server& http, const std::string& prefix, const fs::pat
     }
   }
   const std::string text = doc.dump();
-  http.Get(prefix + "/model.json", [text](const httplib::Request&, httplib::Response& res) {
+  server.Get(prefix + "/model.json", [text](const httplib::Request&, httplib::Response& res) {
     res.set_content(text, "application/json");
   });
-  if (!http.set_mount_point(prefix, topology.parent_path().string())) {
+  if (!server.set_mount_point(prefix, topology.parent_path().string())) {
     throw Error(topology.parent_path().string() + ": cannot serve this folder",
                 ErrorKind::kFailure);
   }
@@ -66,7 +66,7 @@ std::string display_name(const fs::path& topology) {
 }  // namespace
 
 void serve_demo(DemoOptions options) {
-  const sigset_t signals = block_stop_signals();
+  const sigset_t signals = http::block_stop_signals();
   if (options.web_dir.empty()) options.web_dir = fs::path(WHEELPOSE_SOURCE_DIR) / "web" / "demo";
   if (options.examples_dir.empty()) options.examples_dir = options.web_dir / "examples";
   require_file(options.web_dir / "index.html", "the demo page; give --web DIR");
@@ -75,20 +75,20 @@ void serve_demo(DemoOptions options) {
                         " (scripts/setup.sh does it)");
   require_dir(options.examples_dir, "the example images");
 
-  httplib::Server http;
-  set_connection_limits(http, kMaxDemoRequestBytes);
-  set_security_headers(http, {.blob_images = true, .wasm = true});
+  httplib::Server server;
+  http::set_connection_limits(server, kMaxDemoRequestBytes);
+  http::set_security_headers(server, {.blob_images = true, .wasm = true});
   // Browsers compile WebAssembly while it downloads only when it is served as such.
-  http.set_file_extension_and_mimetype_mapping("wasm", "application/wasm");
+  server.set_file_extension_and_mimetype_mapping("wasm", "application/wasm");
   for (const auto& [prefix, dir] : std::vector<std::pair<std::string, fs::path>>{
            {"/tfjs", tfjs}, {"/examples", options.examples_dir}}) {
-    if (!http.set_mount_point(prefix, dir.string())) {
+    if (!server.set_mount_point(prefix, dir.string())) {
       throw Error(dir.string() + ": cannot serve this folder", ErrorKind::kFailure);
     }
   }
-  mount_model(http, "/models/pretrained", options.pretrained_topology);
-  mount_model(http, "/models/wheelchair", options.wheelchair_topology);
-  mount_model(http, "/models/ensemble", options.ensemble_topology);
+  mount_model(server, "/models/pretrained", options.pretrained_topology);
+  mount_model(server, "/models/wheelchair", options.wheelchair_topology);
+  mount_model(server, "/models/ensemble", options.ensemble_topology);
   std::vector<std::string> examples;
   for (const fs::path& file : image_files_in(options.examples_dir)) {
     examples.push_back(file.filename().string());
@@ -101,20 +101,20 @@ void serve_demo(DemoOptions options) {
              {{"key", "wheelchair"}, {"name", display_name(options.wheelchair_topology)}},
              {{"key", "ensemble"}, {"name", display_name(options.ensemble_topology)}}}}}
           .dump();
-  http.Get("/api/config", [config](const httplib::Request&, httplib::Response& res) {
+  server.Get("/api/config", [config](const httplib::Request&, httplib::Response& res) {
     res.set_content(config, "application/json");
   });
   // Last: the page itself (mount points are tried in order of registration).
-  if (!http.set_mount_point("/", options.web_dir.string())) {
+  if (!server.set_mount_point("/", options.web_dir.string())) {
     throw Error(options.web_dir.string() + ": cannot serve this folder", ErrorKind::kFailure);
   }
-  const std::string url = bind_server(http, options.bind, options.port);
+  const std::string url = http::bind_server(server, options.bind, options.port);
   std::printf("demo: pretrained %s, wheelchair %s, ensemble member %s\nlistening on %s\n",
               options.pretrained_topology.string().c_str(),
               options.wheelchair_topology.string().c_str(),
               options.ensemble_topology.string().c_str(), url.c_str());
   std::fflush(stdout);
-  listen_until_signal(http, signals);
+  http::listen_until_signal(server, signals);
 }
 
-}  // namespace wheelpose::review
+}  // namespace wheelpose::demo

@@ -9,7 +9,7 @@
 #include <cstddef>
 #include <string>
 
-namespace wheelpose::review {
+namespace wheelpose::http {
 
 // Blocks SIGINT and SIGTERM in this thread and every thread it starts later; call first.
 sigset_t block_stop_signals();
@@ -17,7 +17,7 @@ sigset_t block_stop_signals();
 // What a page may do beyond loading its own files.
 struct PagePolicy {
   bool blob_images = false;  // images from blob: URLs (a photo the user drops)
-  bool wasm = false;  // compiling WebAssembly (TF.js's wasm backend)
+  bool wasm = false;         // compiling WebAssembly (TF.js's wasm backend)
 };
 
 // Content-Security-Policy (self only, plus what `policy` allows), nosniff, no referrer, no
@@ -38,4 +38,4 @@ std::string bind_server(httplib::Server& http, const std::string& bind, int port
 // Serves until one of `signals` arrives.
 void listen_until_signal(httplib::Server& http, const sigset_t& signals);
 
-}  // namespace wheelpose::review
+}  // namespace wheelpose::http

@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <string>
 
-namespace wheelpose::review {
+namespace wheelpose::demo {
 
 struct DemoOptions {
   std::string bind = "127.0.0.1";
@@ -26,4 +26,4 @@ struct DemoOptions {
 // until SIGINT/SIGTERM; prints "listening on URL".
 void serve_demo(DemoOptions options);
 
-}  // namespace wheelpose::review
+}  // namespace wheelpose::demo
