@@ -152,4 +152,24 @@ TEST(ExperimentCli, BadFilesAreRefusedBeforeAnyWork) {
   EXPECT_FALSE(fs::exists(dir / "run"));
 }
 
+// Every experiment the docs cite checks out: it plans, or (the real-photo ones, on a machine
+// without the locally built real sets) fails only for a missing set under out/.
+TEST(ExperimentCli, EveryShippedExperimentFileIsValid) {
+  const fs::path folder = fs::path(WHEELPOSE_SOURCE_DIR) / "configs" / "experiments";
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    if (entry.path().extension() != ".yaml") continue;
+    ++files;
+    const auto plan = run_wheelpose("experiment plan " + entry.path().string());
+    if (plan.exit_code == 0) continue;
+    EXPECT_EQ(plan.exit_code, 2) << entry.path() << ": " << plan.output;
+    EXPECT_TRUE(plan.output.find("/out/") != std::string::npos &&
+                (plan.output.find("no such file") != std::string::npos ||
+                 plan.output.find("no such folder") != std::string::npos) &&
+                plan.output.find("models/") == std::string::npos)
+        << entry.path() << ": " << plan.output;
+  }
+  EXPECT_GE(files, 6);
+}
+
 }  // namespace

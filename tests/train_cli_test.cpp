@@ -250,4 +250,58 @@ TEST(TrainCli, BadInputIsOneLineAndLeavesTheCheckpoint) {
   EXPECT_FALSE(fs::exists(dir / "z" / "checkpoint.pt"));
 }
 
+// The bad inputs for a rehearsal set: no people, a weight <= 0 and keypoints that do
+// not fit the model are one line, exit 2, nothing written; an image that stops being readable
+// mid-run is skipped with one warning naming it, and the run finishes the same way every time.
+TEST(TrainCli, BadRehearsalSetsAndUnreadableImages) {
+  if (!have_models()) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
+  const auto dir = fresh_temp_dir("train_rehearsal_bad");
+  const fs::path gt = wheelpose::testing::write_coco_sample_gt(dir, true);
+  const json sample = json::parse(read_text(gt));
+  const auto refused = [&](const std::string& train, const std::string& message) {
+    const auto r = run_wheelpose("train --train " + train + " --out " + (dir / "never").string());
+    EXPECT_EQ(r.exit_code, 2) << train << ": " << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << train << ": " << r.output;
+    EXPECT_FALSE(fs::exists(dir / "never")) << train;
+  };
+  json nobody = sample;
+  nobody["annotations"] = json::array();
+  std::ofstream(dir / "nobody.json") << nobody.dump();
+  refused((dir / "nobody.json").string(), "nobody.json: no person with a labelled keypoint");
+  refused(gt.string() + ":0", "the weight after ':' must be a positive number");
+  refused(gt.string() + ":-2", "the weight after ':' must be a positive number");
+  json short_keypoints = sample;
+  short_keypoints["annotations"][0]["keypoints"].erase(
+      short_keypoints["annotations"][0]["keypoints"].end() - 3,
+      short_keypoints["annotations"][0]["keypoints"].end());
+  std::ofstream(dir / "short.json") << short_keypoints.dump();
+  refused((dir / "short.json").string(),
+          "short.json: annotations[0].keypoints: expected 51 numbers");
+
+  // A second image, cut short: every draw of it trains on the next readable image instead.
+  json two = sample;
+  json cut_image = two["images"][0];
+  cut_image["id"] = 777;
+  cut_image["file_name"] = "cut.jpg";
+  two["images"].push_back(cut_image);
+  for (json a : sample["annotations"]) {
+    a["id"] = a["id"].get<long>() + 100000;
+    a["image_id"] = 777;
+    two["annotations"].push_back(a);
+  }
+  const std::string photo = read_text(dir / sample["images"][0]["file_name"].get<std::string>());
+  std::ofstream(dir / "cut.jpg", std::ios::binary) << photo.substr(0, 3000);
+  std::ofstream(dir / "two.json") << two.dump();
+  const auto a = run_wheelpose(small_run(dir / "two.json", dir / "a"));
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+  const std::string warning =
+      "skipping an image that cannot be read: " + (dir / "cut.jpg").string() + ": truncated JPEG";
+  const auto first = a.output.find(warning);
+  EXPECT_NE(first, std::string::npos) << a.output;
+  EXPECT_EQ(a.output.find(warning, first + 1), std::string::npos) << "warned more than once";
+  const auto b = run_wheelpose(small_run(dir / "two.json", dir / "b"));
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  EXPECT_TRUE(same_bytes(dir / "a" / "last.pt", dir / "b" / "last.pt"));
+}
+
 }  // namespace

@@ -7,10 +7,13 @@
 #include <cmath>
 #include <deque>
 #include <future>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <set>
+#include <string>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -37,14 +40,36 @@ struct Data {
   std::vector<std::pair<int, int>> flip_pairs;
 };
 
+// Image `index` decoded, or, when it cannot be read (deleted, truncated, damaged since the run
+// started), the next readable image of the set in order: a warning names each bad file once,
+// and the batch stays a pure function of (seed, step) and the files on disk. Throws only when
+// no image of the set can be read.
+std::pair<const TrainImage&, cv::Mat> readable_image(const TrainSet& set, std::size_t index) {
+  static std::mutex warned_mutex;
+  static std::set<std::string> warned;
+  for (std::size_t tried = 0; tried < set.images.size(); ++tried) {
+    const TrainImage& image = set.images[(index + tried) % set.images.size()];
+    try {
+      return {image, read_image(image.file, cv::IMREAD_COLOR)};
+    } catch (const Error& e) {
+      const std::lock_guard lock(warned_mutex);
+      if (warned.insert(image.file.string()).second) {
+        spdlog::warn("train: skipping an image that cannot be read: {}", e.what());
+      }
+    }
+  }
+  throw Error("train: none of the " + std::to_string(set.images.size()) +
+              " training images can be read");
+}
+
 // The augmented batch of optimizer step `step`: a pure function of (seed, step).
 TrainBatch make_batch(const Data& data, const TrainOptions& o, std::int64_t step) {
   std::vector<TrainSample> samples;
   // This process's share: every world_size-th slot from its rank (the union over the ranks is
   // the batch one process would train on).
   for (int slot = o.rank; slot < o.batch; slot += o.world_size) {
-    const TrainImage& image = data.set.images[pick_image(data.cumulative, o.seed, step, slot)];
-    const cv::Mat bgr = read_image(image.file, cv::IMREAD_COLOR);
+    const std::size_t picked = pick_image(data.cumulative, o.seed, step, slot);
+    auto [image, bgr] = readable_image(data.set, picked);
     cv::Mat rgb;
     cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
     samples.push_back(
