@@ -56,6 +56,13 @@ TEST(ExperimentCli, QuickRunSurvivesAKillAndReportsWhatPredictAndEvalSay) {
     EXPECT_TRUE(fs::exists(out / curves.get<std::string>())) << variant;
   }
 
+  // The same numbers as a run never interrupted.
+  const fs::path whole = dir / "whole";
+  const auto uninterrupted =
+      run_wheelpose("-q experiment run " + kQuick.string() + " --out " + whole.string());
+  ASSERT_EQ(uninterrupted.exit_code, 0) << uninterrupted.output;
+  EXPECT_EQ(json::parse(read_text(whole / "results.json"))["results"], results["results"]);
+
   // Resumed when finished: nothing runs again and results.json keeps its bytes.
   const std::string before = read_text(out / "results.json");
   const auto again =
