@@ -81,17 +81,6 @@ StepRecord record_of(const Step& step, double seconds) {
 
 }  // namespace
 
-std::vector<StepRecord> finished_steps(const Plan& plan) {
-  std::vector<StepRecord> records;
-  for (const Step& step : plan.steps) {
-    std::error_code ec;
-    if (!fs::exists(done_file(step), ec)) continue;
-    const json done = json::parse(read_file(done_file(step)), nullptr, false);
-    records.push_back(record_of(step, done.is_object() ? done.value("seconds", 0.0) : 0.0));
-  }
-  return records;
-}
-
 std::vector<StepRecord> run_plan(const Plan& plan, const fs::path& program) {
   std::vector<StepRecord> records;
   const std::size_t total = plan.steps.size();

@@ -21,7 +21,4 @@ struct StepRecord {
 // of its log and the log's path.
 std::vector<StepRecord> run_plan(const Plan& plan, const std::filesystem::path& program);
 
-// The records of the finished steps (for a report of a run still going).
-std::vector<StepRecord> finished_steps(const Plan& plan);
-
 }  // namespace wheelpose::experiment
