@@ -1,6 +1,7 @@
 #include "render/texture.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -104,7 +105,9 @@ TEST(Texture, NoiseDependsOnTheSeedOnly) {
 }
 
 TEST(Texture, ImagesAreDecodedToLinearAndBadFilesAreErrors) {
-  const auto dir = std::filesystem::temp_directory_path() / "wheelpose_texture_test";
+  // Per process: the per-ISA copies of this test binary run at the same time under ctest -j.
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("wheelpose_texture_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   cv::Mat bgr(2, 2, CV_8UC3, cv::Scalar(0, 0, 255));  // red
   bgr.at<cv::Vec3b>(1, 1) = cv::Vec3b(128, 128, 128);
