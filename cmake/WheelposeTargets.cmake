@@ -53,7 +53,9 @@ endfunction()
 # more per x86-64 ISA, as a CPU with only that ISA would: WHEELPOSE_EMBREE_CONFIG=isa=<isa> caps
 # Embree and our AVX2 loops, OPENCV_CPU_DISABLE caps OpenCV's dispatched kernels (OpenCV reads
 # it before main, so only the environment can). On a CPU without that ISA the binary skips every
-# test (core/isa_test_environment.h) and CTest reports the run as skipped.
+# test (core/isa_test_environment.h) and CTest reports the run as skipped. Each copy gets its own
+# temp folder (TMPDIR for std::filesystem, TEST_TMPDIR for GoogleTest): the copies run at the same
+# time under ctest -j and would otherwise race on the fixed file names the tests use.
 function(wheelpose_isa_tests target filter)
   if(NOT WHEELPOSE_BUILD_TESTS OR NOT CMAKE_SYSTEM_PROCESSOR MATCHES "x86_64|AMD64")
     return()
@@ -63,9 +65,11 @@ function(wheelpose_isa_tests target filter)
   set(opencv_off_avx2 "AVX512-SKX,AVX512F")
   set(opencv_off_avx512 "")
   foreach(isa sse4.2 avx avx2 avx512)
+    set(temp_dir "${CMAKE_CURRENT_BINARY_DIR}/tmp-${target}-${isa}")
+    file(MAKE_DIRECTORY "${temp_dir}")
     add_test(NAME ${target}.isa_${isa} COMMAND ${target} --gtest_filter=${filter})
     set_tests_properties(${target}.isa_${isa} PROPERTIES
-      ENVIRONMENT "WHEELPOSE_EMBREE_CONFIG=isa=${isa};OPENCV_CPU_DISABLE=${opencv_off_${isa}}"
+      ENVIRONMENT "WHEELPOSE_EMBREE_CONFIG=isa=${isa};OPENCV_CPU_DISABLE=${opencv_off_${isa}};TMPDIR=${temp_dir};TEST_TMPDIR=${temp_dir}/"
       SKIP_REGULAR_EXPRESSION "but this CPU does not have it"
       LABELS isa
       TIMEOUT 900)
