@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 namespace wheelpose::learn::testing {
@@ -50,6 +51,26 @@ inline bool have_model(const std::string& name) {
   GTEST_SKIP() << "model " << (name) << " not found in "    \
                << ::wheelpose::learn::testing::models_dir() \
                << "; run scripts/setup.sh (or set WHEELPOSE_MODELS)"
+
+// The COCO sample's skier alone, as a training set in `dir` (gt.json and its image).
+inline fs::path write_skier_set(const fs::path& dir) {
+  const fs::path shared = fs::path(WHEELPOSE_SHARED_DIR) / "data" / "coco-sample";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  json gt = json::parse(read_file(shared / "person_keypoints_sample.json"));
+  json images = json::array(), annotations = json::array();
+  for (const auto& image : gt["images"]) {
+    if (image["file_name"] == "000000000785.jpg") images.push_back(image);
+  }
+  for (const auto& a : gt["annotations"]) {
+    if (a["image_id"] == images.at(0)["id"]) annotations.push_back(a);
+  }
+  gt["images"] = images;
+  gt["annotations"] = annotations;
+  write_file_atomic(dir / "gt.json", gt.dump());
+  fs::copy_file(shared / "000000000785.jpg", dir / "000000000785.jpg");
+  return dir / "gt.json";
+}
 
 // A fresh empty directory under the system temp dir, removed when destroyed.
 class TempDir {

@@ -3,10 +3,19 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "learn/graph_module.h"
+#include "learn/learn_test_support.h"
+#include "learn/train_data.h"
 
 namespace wheelpose::learn {
 namespace {
+
+namespace fs = std::filesystem;
 
 // Heads shaped like the model's (B×G×G×C): only the two heatmaps take part in distillation.
 TensorMap heads_with(const torch::Tensor& centre, const torch::Tensor& keypoints) {
@@ -108,6 +117,65 @@ TEST(CrowdRegions, ConfidenceInsideARegionCostsNothing) {
   // Outside regions nothing changes: with background values in the region's 36 cells the two
   // batches differ only by those cells' tiny negative terms.
   EXPECT_NEAR(compute_losses(heads(-6.0), plain).parts.centre, quiet.centre, 1e-5);
+}
+
+// The targets follow the conventions the pretrained MoveNet was trained with: on the COCO
+// sample's skier, unaugmented, its own heads land where build_targets puts them, so a swapped
+// axis, a half-cell shift or other units in any head fail here. Measured: the centre peak one
+// cell off (the box centre sits on a cell corner), box size within 1 %, regression 0.6 cells
+// off on average, keypoints decoded at each heatmap's peak shifted by (0.16, 0.29) cells.
+TEST(TargetConventions, ThePretrainedModelAgreesWithTheTargets) {
+  WHEELPOSE_REQUIRE_MODEL("movenet-multipose");
+  const testing::TempDir dir("conventions");
+  const TrainSet set = load_train_set({{testing::write_skier_set(dir.path() / "set"), 1}});
+  const TrainImage* skier = &set.images.at(0);
+  cv::Mat rgb;
+  cv::cvtColor(cv::imread(skier->file.string()), rgb, cv::COLOR_BGR2RGB);
+  const AugmentOptions unaugmented{.input_size = 256,
+                                   .target_longer_side = 256,
+                                   .scale_min = 1,
+                                   .scale_max = 1,
+                                   .shift_fraction = 0,
+                                   .rotate_degrees = 0,
+                                   .flip_probability = 0,
+                                   .color_jitter = 0,
+                                   .blur_probability = 0,
+                                   .jpeg_probability = 0};
+  const TrainBatch b = make_train_batch({augment(rgb, skier->people, {}, unaugmented, 1, 0)}, 256);
+  ASSERT_EQ(b.centre_index.size(0), 1);
+  GraphModule model(testing::model_json("movenet-multipose"));
+  const torch::NoGradGuard no_grad;
+  const TensorMap heads = model.forward_only(b.images, kMovenetHeads);
+  const auto per_cell = [&](int head) {
+    const torch::Tensor& h = heads.at(kMovenetHeads[head]);
+    return h.reshape({-1, h.size(3)});
+  };
+  const int grid = 64, target_cell = b.centre_index[0].item<int>();
+  const int peak = per_cell(0).argmax().item<int>();
+  EXPECT_LE(std::abs(peak / grid - target_cell / grid), 1);
+  EXPECT_LE(std::abs(peak % grid - target_cell % grid), 1);
+
+  const torch::Tensor scale = per_cell(1)[target_cell];
+  EXPECT_NEAR((scale / b.scale[0] - 1).abs().max().item<double>(), 0.0, 0.05);
+  const double regress_error =
+      (per_cell(4)[target_cell] - b.regress[0]).abs().mul(b.regress_mask[0]).sum().item<double>() /
+      b.regress_mask[0].sum().item<double>();
+  EXPECT_LT(regress_error, 1.0);
+
+  // Each keypoint decoded as the graph does: its heatmap's peak cell plus that cell's offset.
+  double shift_y = 0, shift_x = 0;
+  const int labelled = static_cast<int>(b.keypoint_index.size(0));
+  ASSERT_GE(labelled, 15);
+  for (int i = 0; i < labelled; ++i) {
+    const int k = b.keypoint_channel[i].item<int>(), cell = b.keypoint_index[i].item<int>();
+    const int at = per_cell(3).select(1, k).argmax().item<int>();
+    shift_y += at / grid + per_cell(5)[at][2 * k].item<double>() -
+               (cell / grid + b.keypoint_offset[i][0].item<double>());
+    shift_x += at % grid + per_cell(5)[at][2 * k + 1].item<double>() -
+               (cell % grid + b.keypoint_offset[i][1].item<double>());
+  }
+  EXPECT_LT(std::hypot(shift_y, shift_x) / labelled, 0.45)
+      << "mean shift " << shift_y / labelled << ", " << shift_x / labelled << " cells";
 }
 
 }  // namespace

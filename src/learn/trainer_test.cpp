@@ -13,27 +13,9 @@
 namespace wheelpose::learn {
 namespace {
 
-namespace fs = std::filesystem;
+using testing::write_skier_set;
 
-// The COCO sample's skier alone, as a training set in `dir` (gt.json and its image).
-fs::path write_skier_set(const fs::path& dir) {
-  const fs::path shared = fs::path(WHEELPOSE_SHARED_DIR) / "data" / "coco-sample";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  nlohmann::json gt = nlohmann::json::parse(read_file(shared / "person_keypoints_sample.json"));
-  nlohmann::json images = nlohmann::json::array(), annotations = nlohmann::json::array();
-  for (const auto& image : gt["images"]) {
-    if (image["file_name"] == "000000000785.jpg") images.push_back(image);
-  }
-  for (const auto& a : gt["annotations"]) {
-    if (a["image_id"] == images.at(0)["id"]) annotations.push_back(a);
-  }
-  gt["images"] = images;
-  gt["annotations"] = annotations;
-  write_file_atomic(dir / "gt.json", gt.dump());
-  fs::copy_file(shared / "000000000785.jpg", dir / "000000000785.jpg");
-  return dir / "gt.json";
-}
+namespace fs = std::filesystem;
 
 fs::path multipose_topology() {
   return fs::path(WHEELPOSE_SOURCE_DIR) / "models" / "movenet-multipose.json";
