@@ -57,10 +57,49 @@ cv::Mat lens_blur(const cv::Mat& linear, const cv::Mat& depth, float max_radius,
   return out;
 }
 
+// The gain that brings the image's log-average luminance to `key` (Reinhard's scene key). A
+// serial sum in row order, so the gain does not depend on threads.
+float auto_exposure_gain(const cv::Mat& linear, float key) {
+  double log_sum = 0;
+  for (int y = 0; y < linear.rows; ++y) {
+    const cv::Vec3f* row = linear.ptr<cv::Vec3f>(y);
+    for (int x = 0; x < linear.cols; ++x)
+      log_sum += std::log(1e-4 + std::max(0.0f, luminance(row[x])));
+  }
+  const double log_average = std::exp(log_sum / std::max(1, linear.rows * linear.cols));
+  return static_cast<float>(key / log_average);
+}
+
+// Poisson–Gaussian sensor noise on an image already multiplied by `gain` (see PostProcess).
+// One stream per row, so the result is the same for any thread count.
+void add_sensor_noise(cv::Mat& img, const scene::PostProcess& p, float gain, std::uint64_t seed) {
+  cv::parallel_for_(cv::Range(0, img.rows), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      RandomStream rng(seed, {"sensor", y});
+      cv::Vec3f* row = img.ptr<cv::Vec3f>(y);
+      for (int x = 0; x < img.cols; ++x) {
+        for (int i = 0; i < 3; ++i) {
+          const float v = std::max(0.0f, row[x][i]);
+          const float variance =
+              gain * p.shot_noise * v + gain * gain * p.read_noise * p.read_noise;
+          row[x][i] = v + std::sqrt(variance) * static_cast<float>(rng.normal(0.0, 1.0));
+        }
+      }
+    }
+  });
+}
+
+// The ACES filmic fit (Narkowicz 2015): a toe, a roughly linear middle and a shoulder that rolls
+// highlights off to 1 instead of clipping them.
+float filmic(float x) {
+  x = std::max(0.0f, x);
+  return std::min(1.0f, x * (2.51f * x + 0.03f) / (x * (2.43f * x + 0.59f) + 0.14f));
+}
+
 }  // namespace
 
 cv::Mat apply_post_linear(const cv::Mat& linear, const cv::Mat& depth, const scene::PostProcess& p,
-                          float focus_distance) {
+                          float focus_distance, std::uint64_t seed) {
   CV_Assert(linear.type() == CV_32FC3);
   cv::Mat img =
       p.lens_blur > 0 ? lens_blur(linear, depth, p.lens_blur, focus_distance) : linear.clone();
@@ -69,8 +108,12 @@ cv::Mat apply_post_linear(const cv::Mat& linear, const cv::Mat& depth, const sce
   const float k = 0.3f * p.temperature / 100.0f;
   cv::Vec3f gain(1 + k, 1, 1 - k);
   gain /= luminance(gain);
-  gain *= std::exp2(p.exposure_ev);
+  const float exposure =
+      (p.auto_exposure_key > 0 ? auto_exposure_gain(img, p.auto_exposure_key) : 1.0f) *
+      std::exp2(p.exposure_ev);
+  gain *= exposure;
   img.forEach<cv::Vec3f>([&](cv::Vec3f& c, const int*) { c = c.mul(gain); });
+  if (p.shot_noise > 0 || p.read_noise > 0) add_sensor_noise(img, p, exposure, seed);
   if (p.bloom > 0) {
     // Glow from what exceeds the threshold, blurred at quarter resolution for speed.
     cv::Mat bright;
@@ -106,6 +149,9 @@ cv::Mat apply_post_linear(const cv::Mat& linear, const cv::Mat& depth, const sce
       const float t = std::clamp((r - 0.3f) / 0.7f, 0.0f, 1.0f);
       c *= 1.0f - p.vignette * t * t * (3 - 2 * t);
     }
+    if (p.filmic) {
+      for (int i = 0; i < 3; ++i) c[i] = filmic(c[i]);
+    }
   });
   return img;
 }
@@ -137,7 +183,7 @@ cv::Mat encode_srgb(const cv::Mat& linear) {
 
 cv::Mat apply_post(const cv::Mat& linear, const cv::Mat& depth, const scene::PostProcess& p,
                    float focus_distance, std::uint64_t seed) {
-  cv::Mat out = encode_srgb(apply_post_linear(linear, depth, p, focus_distance));
+  cv::Mat out = encode_srgb(apply_post_linear(linear, depth, p, focus_distance, seed));
   if (p.film_grain > 0) {
     // Grain in display space, strongest in the mid-tones. One stream per row (a row is never
     // split between threads), so the result is the same for any thread count.

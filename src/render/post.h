@@ -14,9 +14,11 @@ namespace wheelpose::render {
 cv::Mat apply_post(const cv::Mat& linear, const cv::Mat& depth, const scene::PostProcess& post,
                    float focus_distance, std::uint64_t seed);
 
-// Post-processing on the linear buffer only (no encoding), for tests and tools.
+// Post-processing on the linear buffer only (no encoding), for tests and tools. `seed` seeds
+// the sensor noise.
 cv::Mat apply_post_linear(const cv::Mat& linear, const cv::Mat& depth,
-                          const scene::PostProcess& post, float focus_distance);
+                          const scene::PostProcess& post, float focus_distance,
+                          std::uint64_t seed = 0);
 
 // Clamp to [0, 1] and sRGB-encode to 8 bits (CV_8UC3 RGB).
 cv::Mat encode_srgb(const cv::Mat& linear);

@@ -136,5 +136,77 @@ TEST(Post, SrgbEncodingMatchesTheStandard) {
             cv::Vec3b(0, 10, 255));
 }
 
+// Automatic exposure brings the log-average luminance to the key: a dim grey room and a bright
+// one come out the same, and an image of two halves lands at their geometric mean.
+TEST(Post, AutoExposureMapsTheLogAverageToTheKey) {
+  scene::PostProcess p;
+  p.auto_exposure_key = 0.18f;
+  // The log average is taken of luminance + 1e-4, so that black pixels count as very dark.
+  for (float level : {0.01f, 0.5f, 4.0f}) {
+    const cv::Mat img = flat(level, level, level);
+    EXPECT_NEAR(at(apply_post_linear(img, no_depth(img), p, 5), 3, 3)[1],
+                0.18f * level / (level + 1e-4f), 1e-5f)
+        << level;
+  }
+  cv::Mat halves = flat(0.02f, 0.02f, 0.02f);
+  halves(cv::Rect(0, 0, 20, 30)).setTo(cv::Scalar::all(0.32));
+  const double log_average = std::sqrt((0.32 + 1e-4) * (0.02 + 1e-4));  // about 0.08
+  const cv::Mat out = apply_post_linear(halves, no_depth(halves), p, 5);
+  EXPECT_NEAR(at(out, 30, 3)[0], 0.02 * 0.18 / log_average, 1e-5);
+  // The compensation still applies on top.
+  p.exposure_ev = 1;
+  const cv::Mat grey = flat(0.5f, 0.5f, 0.5f);
+  EXPECT_NEAR(at(apply_post_linear(grey, no_depth(grey), p, 5), 3, 3)[0], 0.36f, 0.002f);
+}
+
+// Sensor noise: zero mean, variance g·shot·x + (g·read)², so a dark scene lifted by the exposure
+// is noisier than a bright one at the same output level; seeded, so the same seed repeats.
+TEST(Post, SensorNoiseGrowsInTheDarkAndFollowsTheSeed) {
+  scene::PostProcess p;
+  p.auto_exposure_key = 0.18f;
+  p.shot_noise = 0.01f;
+  p.read_noise = 0.002f;
+  const auto noise_of = [&](float level, std::uint64_t seed) {
+    const cv::Mat img = flat(level, level, level, 200, 200);
+    cv::Mat out = apply_post_linear(img, no_depth(img), p, 5, seed);
+    cv::Scalar mean, stddev;
+    cv::meanStdDev(out.reshape(1), mean, stddev);
+    return std::pair{mean[0], stddev[0]};
+  };
+  const auto [bright_mean, bright_sd] = noise_of(1.8f, 1);  // gain 0.1
+  const auto [dark_mean, dark_sd] = noise_of(0.018f, 1);    // gain 10
+  EXPECT_NEAR(bright_mean, 0.18, 0.002);
+  EXPECT_NEAR(dark_mean, 0.18, 0.002);
+  // Expected standard deviations: sqrt(g·0.01·0.18 + (g·0.002)²).
+  EXPECT_NEAR(bright_sd, std::sqrt(0.1 * 0.01 * 0.18 + 0.0002 * 0.0002), 0.001);
+  EXPECT_NEAR(dark_sd, std::sqrt(10 * 0.01 * 0.18 + 0.02 * 0.02), 0.005);
+  const cv::Mat img = flat(0.2f, 0.2f, 0.2f);
+  const cv::Mat a = apply_post_linear(img, no_depth(img), p, 5, 7);
+  EXPECT_EQ(cv::norm(a, apply_post_linear(img, no_depth(img), p, 5, 7), cv::NORM_INF), 0.0);
+  EXPECT_GT(cv::norm(a, apply_post_linear(img, no_depth(img), p, 5, 8), cv::NORM_INF), 0.0);
+}
+
+// The filmic curve: black stays black, it rises monotonically, mid grey is lifted, and
+// highlights roll off below 1 instead of clipping until far above it.
+TEST(Post, FilmicCurveRollsOffHighlights) {
+  scene::PostProcess p;
+  p.filmic = true;
+  const auto through = [&](float v) {
+    const cv::Mat img = flat(v, v, v);
+    return at(apply_post_linear(img, no_depth(img), p, 5), 3, 3)[0];
+  };
+  EXPECT_NEAR(through(0), 0.0f, 1e-6f);
+  EXPECT_NEAR(through(0.18f),
+              0.18f * (2.51f * 0.18f + 0.03f) / (0.18f * (2.43f * 0.18f + 0.59f) + 0.14f), 1e-6f);
+  float last = 0;
+  for (float v = 0.05f; v < 10; v *= 1.5f) {
+    const float out = through(v);
+    EXPECT_GT(out, last) << v;
+    last = out;
+  }
+  EXPECT_LT(through(1.0f), 0.85f);  // clipping would give 1
+  EXPECT_EQ(through(50.0f), 1.0f);  // the fit reaches 1 near 14.6
+}
+
 }  // namespace
 }  // namespace wheelpose::render

@@ -130,9 +130,10 @@ struct Camera {
   float effective_vfov() const;
 };
 
-// Post-processing on the linear image, in this order: lens blur, exposure, white balance, bloom,
-// contrast, saturation, vignette, film grain, then sRGB encoding. Neutral values are the
-// defaults; ranges follow the paper's PostProcessVolumeRandomizer (Unity HDRP units).
+// Post-processing on the linear image, in this order: lens blur, exposure (automatic, then the
+// compensation), white balance, sensor noise, bloom, contrast, saturation, vignette, tone curve
+// (clip or filmic), sRGB encoding, film grain. Neutral values are the defaults; ranges follow the
+// paper's PostProcessVolumeRandomizer (Unity HDRP units) where it has them.
 struct PostProcess {
   float exposure_ev = 0.0f;  // multiply by 2^ev
   float temperature = 0.0f;  // −100 … 100; positive = warmer (more red, less blue)
@@ -143,6 +144,15 @@ struct PostProcess {
   float bloom_threshold = 1.0f;
   float film_grain = 0.0f;  // 0 … 1: seeded noise (one stream per image row)
   float lens_blur = 0.0f;   // max blur radius in pixels for depth away from the focus
+  // A camera's automatic exposure: > 0 scales the image so that its log-average luminance
+  // becomes this key (0.18 = mid grey); 0 = off (the light units decide).
+  float auto_exposure_key = 0.0f;
+  // Sensor noise in linear units of the sensor's signal s, before the exposure gain g: variance
+  // shot_noise · s + read_noise², so after the gain g · shot_noise · x + (g · read_noise)² —
+  // dark scenes that the exposure lifts get grainier, as in a phone's photos.
+  float shot_noise = 0.0f;
+  float read_noise = 0.0f;
+  bool filmic = false;  // a filmic shoulder (the ACES fit of Narkowicz 2015) instead of clipping
   bool operator==(const PostProcess&) const = default;
 };
 

@@ -241,6 +241,11 @@ json scene_to_json(const Scene& s) {
                {"bloom_threshold", p.bloom_threshold},
                {"film_grain", p.film_grain},
                {"lens_blur", p.lens_blur}};
+  // The camera model's keys only when used, so scenes without it keep their bytes.
+  if (p.auto_exposure_key > 0) j["post"]["auto_exposure_key"] = p.auto_exposure_key;
+  if (p.shot_noise > 0) j["post"]["shot_noise"] = p.shot_noise;
+  if (p.read_noise > 0) j["post"]["read_noise"] = p.read_noise;
+  if (p.filmic) j["post"]["filmic"] = true;
   j["background"] = {{"color", to_array<3>(s.background.color)},
                      {"texture", texture_json(s.background.texture)},
                      {"image", s.background.image}};
@@ -484,7 +489,8 @@ Environment read_environment(const Reader& r) {
 
 void read_post(const Reader& r, PostProcess& p) {
   r.allow({"exposure_ev", "temperature", "contrast", "saturation", "vignette", "bloom",
-           "bloom_threshold", "film_grain", "lens_blur"});
+           "bloom_threshold", "film_grain", "lens_blur", "auto_exposure_key", "shot_noise",
+           "read_noise", "filmic"});
   r.read_range("exposure_ev", p.exposure_ev, -20.0f, 20.0f);
   r.read_range("temperature", p.temperature, -100.0f, 100.0f);
   r.read_range("contrast", p.contrast, -100.0f, 100.0f);
@@ -494,6 +500,10 @@ void read_post(const Reader& r, PostProcess& p) {
   r.read_range("bloom_threshold", p.bloom_threshold, 0.0f, 1e6f);
   r.read_range("film_grain", p.film_grain, 0.0f, 1.0f);
   r.read_range("lens_blur", p.lens_blur, 0.0f, 64.0f);
+  r.read_range("auto_exposure_key", p.auto_exposure_key, 0.0f, 1.0f);
+  r.read_range("shot_noise", p.shot_noise, 0.0f, 1.0f);
+  r.read_range("read_noise", p.read_noise, 0.0f, 1.0f);
+  r.read("filmic", p.filmic);
 }
 
 void read_background(const Reader& r, Background& background) {

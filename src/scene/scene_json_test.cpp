@@ -57,7 +57,8 @@ Scene full_scene() {
   s.camera.focus_distance = 4.0f;
   s.camera.width = 64;
   s.camera.height = 48;
-  s.post = PostProcess{1.5f, -20, 30, -40, 0.5f, 0.3f, 0.9f, 0.7f, 3.0f};
+  s.post =
+      PostProcess{1.5f, -20, 30, -40, 0.5f, 0.3f, 0.9f, 0.7f, 3.0f, 0.2f, 0.004f, 0.001f, true};
   s.background.color = {0.3f, 0.2f, 0.1f};
   s.background.texture.kind = TextureKind::kChecker;
   s.background.image = "bg.jpg";
@@ -140,6 +141,7 @@ TEST(SceneJson, BadInputNamesFileAndPath) {
   expect_error(R"({"meshes": [], "materials": [{}], "instances": [{"mesh": 0}]})",
                "/instances/0/mesh: must be in 0..-1");
   expect_error(R"({"post": {"vignette": 2}})", "/post/vignette: must be in 0 .. 1");
+  expect_error(R"({"post": {"shot_noise": -1}})", "/post/shot_noise: must be in 0 .. 1");
   expect_error(R"({"sun": {"direction": [0, 0, 0]}})",
                "/sun/direction: direction must not be zero");
   expect_error(R"([1, 2])", "s.json: /: expected an object");
