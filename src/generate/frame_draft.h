@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -37,8 +38,8 @@ struct PersonDraft {
   int pool_slot = 0;  // which person of the current pool
   body::PersonSpec spec;
   Outfit outfit;
-  int clip = -1;       // index into the motion clips; -1 = rest seated pose
-  double time = 0.0;   // seconds into the clip
+  int clip = -1;      // index into the motion clips; -1 = rest seated pose
+  double time = 0.0;  // seconds into the clip
   std::optional<std::array<Eigen::Vector3f, 4>> chair_colours;  // frame, upholstery, tyre, trim
   // Placement: world = position + rotation · (scale · (p − anchor)), where anchor is the
   // person's pelvis over the floor (x, z) at floor height 0 — so scale keeps the wheels on the
@@ -82,6 +83,12 @@ struct FrameDraft {
   std::vector<ObjectDraft> objects;
   std::vector<PersonDraft> people;
   std::vector<EmptyChairDraft> empty_chairs;
+  // How the image is written: JPEG quality (0 = the scenario's image.jpeg_quality) and a
+  // shrink-and-enlarge factor (1 = none).
+  int jpeg_quality = 0;
+  float rescale = 1.0f;
+  // Drawn values a randomizer records in the image's COCO entry (realism splits by them).
+  nlohmann::ordered_json image_attributes = nlohmann::ordered_json::object();
 };
 
 }  // namespace wheelpose::generate

@@ -25,10 +25,12 @@ extern const RandomizerEntry kLightRandomizer;
 extern const RandomizerEntry kLightPositionRotationRandomizer;
 extern const RandomizerEntry kCameraRandomizer;
 extern const RandomizerEntry kPostProcessVolumeRandomizer;
+extern const RandomizerEntry kPhoneCameraRandomizer;
 
 const std::vector<RandomizerEntry>& randomizer_registry() {
   // Environment first (others depend on the layout); Camera after the people (rooms aim at
-  // them); PostProcessVolume last (it sets the camera's focus distance).
+  // them); PostProcessVolume after Camera (it sets the camera's focus distance), then the
+  // phone camera's pipeline on top of it.
   static const std::vector<RandomizerEntry> registry = {
       kEnvironmentRandomizer,
       kBackgroundObjectPlacementRandomizer,
@@ -51,6 +53,7 @@ const std::vector<RandomizerEntry>& randomizer_registry() {
       kLightPositionRotationRandomizer,
       kCameraRandomizer,
       kPostProcessVolumeRandomizer,
+      kPhoneCameraRandomizer,
   };
   return registry;
 }

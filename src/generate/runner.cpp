@@ -46,11 +46,25 @@ ordered_json provenance(const Scenario& scenario, const RunOptions& options,
   return j;
 }
 
+// The image shrunk by `factor` (area filter) and enlarged back (bilinear): the detail a small or
+// digitally zoomed photo lacks. Pixel positions, and so labels, are unchanged.
+cv::Mat resampled(const cv::Mat& rgb, float factor) {
+  if (factor >= 1.0f) return rgb;
+  cv::Mat small, back;
+  const cv::Size reduced(std::max(1, static_cast<int>(std::lround(rgb.cols * factor))),
+                         std::max(1, static_cast<int>(std::lround(rgb.rows * factor))));
+  cv::resize(rgb, small, reduced, 0, 0, cv::INTER_AREA);
+  cv::resize(small, back, rgb.size(), 0, 0, cv::INTER_LINEAR);
+  return back;
+}
+
 std::vector<std::uint8_t> encode_image(const cv::Mat& rgb, const std::string& format, int quality) {
   cv::Mat bgr;
   cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
   std::vector<std::uint8_t> bytes;
   std::vector<int> params;
+  // OpenCV 4.6 leaves chroma subsampling at libjpeg's default, 4:2:0, as phones write it
+  // (runner_test checks the frame header).
   if (format == "jpg") params = {cv::IMWRITE_JPEG_QUALITY, quality, cv::IMWRITE_JPEG_OPTIMIZE, 0};
   if (!cv::imencode("." + format, bgr, bytes, params)) throw Error("cannot encode " + format);
   return bytes;
@@ -195,8 +209,10 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
 
     const std::string stem = frame_stem(frame);
     const std::string file_name = stem + "." + options.format;
-    write_file_atomic(out / "images" / file_name,
-                      encode_image(buffers.rgb, options.format, scenario.jpeg_quality));
+    write_file_atomic(
+        out / "images" / file_name,
+        encode_image(resampled(buffers.rgb, draft.rescale), options.format,
+                     draft.jpeg_quality > 0 ? draft.jpeg_quality : scenario.jpeg_quality));
     if (scenario.ground_truth_maps) {
       write_file_atomic(out / "maps" / (stem + "_depth.png"),
                         render::encode_png(render::depth_to_millimetres(buffers.depth)));
@@ -214,6 +230,7 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
     image["seed"] = options.seed;
     image["environment"] = draft.environment == EnvironmentKind::kRoom ? "room" : "wall";
     image["nominal_focal_length_mm"] = std::round(draft.nominal_focal_length_mm * 1e4) / 1e4;
+    for (const auto& [key, value] : draft.image_attributes.items()) image[key] = value;
     ordered_json fragment;
     fragment["image"] = std::move(image);
     fragment["annotations"] = std::move(labels.annotations);

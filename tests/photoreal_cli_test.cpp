@@ -1,0 +1,110 @@
+// End-to-end tests of the photo-real options of `wheelpose generate`: black-body lights, interior
+// rooms, the phone camera's pipeline (recorded per image, JPEG at its drawn quality with 4:2:0
+// chroma, shrunk-and-enlarged frames that keep their labels) and their bad values.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli_runner.h"
+
+namespace {
+
+using nlohmann::json;
+using wheelpose::testing::fresh_temp_dir;
+using wheelpose::testing::read_text;
+using wheelpose::testing::run_wheelpose;
+namespace fs = std::filesystem;
+
+const char* kRoomScenario = R"(image: {width: 160, height: 120, spp: 1}
+randomizers:
+  Environment: {room_probability: 1.0}
+  HumanGeneration: {min_per_frame: 1, max_per_frame: 2, pool_size: 4}
+  Light: {color_temperature: {uniform: [2700, 6500]}, tint_probability: 0.05}
+  Texture: {style: interior}
+  HueOffset: {enabled: false}
+)";
+
+// The Y (first) component's sampling factors in the JPEG's start-of-frame segment: 0x22 for
+// 4:2:0 (luma sampled twice as densely as chroma both ways).
+int luma_sampling(const std::string& jpeg) {
+  for (std::size_t i = 2; i + 10 < jpeg.size();) {
+    if (static_cast<unsigned char>(jpeg[i]) != 0xff) return -1;
+    const unsigned marker = static_cast<unsigned char>(jpeg[i + 1]);
+    const std::size_t length =
+        (static_cast<unsigned char>(jpeg[i + 2]) << 8) | static_cast<unsigned char>(jpeg[i + 3]);
+    if (marker == 0xc0 || marker == 0xc2) return static_cast<unsigned char>(jpeg[i + 11]);
+    i += 2 + length;
+  }
+  return -1;
+}
+
+TEST(PhotorealCli, PhoneCameraIsRecordedAndShapesTheFile) {
+  const fs::path dir = fresh_temp_dir("photoreal_phone");
+  const auto run = [&](const std::string& name, const std::string& phone) {
+    const fs::path config = dir / (name + ".yaml");
+    std::ofstream(config) << kRoomScenario << phone;
+    const auto r = run_wheelpose("generate --config " + config.string() + " --out " +
+                                 (dir / name).string() + " --frames 2 --seed 5");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return json::parse(read_text(dir / name / "annotations.json"));
+  };
+  const json low = run(
+      "low",
+      "  PhoneCamera: {enabled: true, jpeg_quality: 50, rescale_probability: 1, rescale: 0.5}\n");
+  const json high =
+      run("high", "  PhoneCamera: {enabled: true, jpeg_quality: 95, rescale_probability: 0}\n");
+  const json plain = run("plain", "");
+  for (std::size_t i = 0; i < 2; ++i) {
+    const json& phone = low["images"][i]["phone_camera"];
+    EXPECT_EQ(phone["jpeg_quality"], 50);
+    EXPECT_EQ(phone["rescale"], 0.5);
+    EXPECT_TRUE(phone["filmic"].get<bool>());
+    EXPECT_GE(phone["exposure_key"].get<double>(), 0.1);
+    EXPECT_LE(phone["exposure_key"].get<double>(), 0.2);
+    EXPECT_EQ(high["images"][i]["phone_camera"]["rescale"], 1.0);
+    EXPECT_FALSE(plain["images"][i].contains("phone_camera"));
+    const std::string file = low["images"][i]["file_name"];
+    const std::string low_bytes = read_text(dir / "low" / "images" / file);
+    const std::string high_bytes = read_text(dir / "high" / "images" / file);
+    EXPECT_EQ(luma_sampling(low_bytes), 0x22);
+    EXPECT_EQ(luma_sampling(high_bytes), 0x22);
+    EXPECT_LT(low_bytes.size() * 2, high_bytes.size()) << "quality 50 of a half-size frame";
+  }
+  // The camera changes pixels, never labels: the same people in the same places.
+  EXPECT_EQ(low["annotations"].size(), plain["annotations"].size());
+  for (std::size_t a = 0; a < plain["annotations"].size(); ++a) {
+    EXPECT_EQ(low["annotations"][a]["keypoints"], plain["annotations"][a]["keypoints"]);
+  }
+  // Recorded in scenario.json with the settings used.
+  const json scenario = json::parse(read_text(dir / "low" / "scenario.json"));
+  EXPECT_NE(scenario.dump().find("\"rescale_probability\":1.0"), std::string::npos);
+}
+
+TEST(PhotorealCli, BadValuesNameTheKey) {
+  const fs::path dir = fresh_temp_dir("photoreal_bad");
+  const struct {
+    std::string yaml, expected;
+  } cases[] = {
+      {"  Light: {color_temperature: {uniform: [1000, 6500]}}\n", "color_temperature"},
+      {"  PhoneCamera: {enabled: true, jpeg_quality: 101}\n", "jpeg_quality"},
+      {"  PhoneCamera: {enabled: true, rescale: 0}\n", "rescale"},
+      {"  Texture: {style: plaid}\n", "must be paper or interior, not 'plaid'"},
+      {"  HumanGeneration: {garment_colours: neon}\n", "must be palette or uniform, not 'neon'"},
+  };
+  for (const auto& c : cases) {
+    const fs::path config = dir / "bad.yaml";
+    std::ofstream(config) << "randomizers:\n" << c.yaml;
+    const auto r = run_wheelpose("generate --config " + config.string() + " --out " +
+                                 (dir / "out").string() + " --frames 1");
+    EXPECT_EQ(r.exit_code, 2) << c.yaml << r.output;
+    EXPECT_NE(r.output.find("bad.yaml:2"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(c.expected), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "out")) << c.yaml;
+  }
+}
+
+}  // namespace
