@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
+#include <vector>
 
 namespace wheelpose::body {
 namespace {
@@ -31,17 +33,19 @@ float segment_distance2(const Vector3f& p, const Vector3f& a, const Vector3f& b)
   return (a + t * ab - p).squaredNorm();
 }
 
-// Region per vertex from the nearest bone of the rest (unposed) body.
-std::vector<Region> vertex_regions(const Person& person, const Rig& rig, const DressCode& dress) {
+// Region per point (of the rest, unposed body) from its nearest bone.
+std::vector<Region> nearest_bone_regions(const std::vector<Vector3f>& rest_points,
+                                         const Person& person, const Rig& rig,
+                                         const DressCode& dress) {
   std::vector<Region> bone_region(rig.bones.size());
   for (std::size_t b = 0; b < rig.bones.size(); ++b)
     bone_region[b] = region_of_bone(rig.bones[b].name, dress);
-  std::vector<Region> out(person.rest_vertices.size(), kTop);
-  for (std::size_t v = 0; v < person.rest_vertices.size(); ++v) {
+  std::vector<Region> out(rest_points.size(), kTop);
+  for (std::size_t v = 0; v < rest_points.size(); ++v) {
     float best = INFINITY;
     for (std::size_t b = 0; b < rig.bones.size(); ++b) {
-      const float d = segment_distance2(person.rest_vertices[v], person.rest_bones.head[b],
-                                        person.rest_bones.tail[b]);
+      const float d =
+          segment_distance2(rest_points[v], person.rest_bones.head[b], person.rest_bones.tail[b]);
       if (d < best) {
         best = d;
         out[v] = bone_region[b];
@@ -49,6 +53,10 @@ std::vector<Region> vertex_regions(const Person& person, const Rig& rig, const D
     }
   }
   return out;
+}
+
+std::vector<Region> vertex_regions(const Person& person, const Rig& rig, const DressCode& dress) {
+  return nearest_bone_regions(person.rest_vertices, person, rig, dress);
 }
 
 bool is_suit(const std::string& garment) {
@@ -102,28 +110,80 @@ void add_body_regions(const Person& person, const Rig& rig, const DressCode& dre
   }
 }
 
-// The MakeHuman clothes, hair, eyebrows and eyes worn, each in the outfit's colour for it.
-void add_garments(const Person& person, const Eigen::Affine3f& to_world,
-                  std::vector<PlacedPart>& parts) {
+// The whole garment as a part (world positions), its vertices in their own order.
+PlacedPart garment_part(const Garment& g, const Eigen::Affine3f& to_world) {
+  PlacedPart part;
+  part.positions.reserve(g.vertices.size());
+  for (const Vector3f& v : g.vertices) part.positions.push_back(to_world * v);
+  part.normals = vertex_normals(part.positions, g.triangles);
+  for (const Vector3f& r : g.rest_vertices) part.uvs.push_back(body_uv(r));
+  for (const auto& t : g.triangles)
+    part.triangles.emplace_back(static_cast<int>(t[0]), static_cast<int>(t[1]),
+                                static_cast<int>(t[2]));
+  return part;
+}
+
+// The triangles of `g` whose first vertex passes `keep`, as a part (normals of the whole
+// garment, so the cut leaves no seam in the shading).
+PlacedPart garment_part(const Garment& g, const Eigen::Affine3f& to_world,
+                        const std::vector<char>& keep) {
+  PlacedPart part;
+  std::vector<Vector3f> world(g.vertices.size());
+  for (std::size_t v = 0; v < world.size(); ++v) world[v] = to_world * g.vertices[v];
+  const std::vector<Vector3f> normals = vertex_normals(world, g.triangles);
+  std::vector<int> local(world.size(), -1);
+  for (const auto& t : g.triangles) {
+    if (!keep[t[0]]) continue;
+    Eigen::Vector3i tri;
+    for (int c = 0; c < 3; ++c) {
+      int& l = local[t[c]];
+      if (l < 0) {
+        l = static_cast<int>(part.positions.size());
+        part.positions.push_back(world[t[c]]);
+        part.normals.push_back(normals[t[c]]);
+        part.uvs.push_back(body_uv(g.rest_vertices[t[c]]));
+      }
+      tri[c] = l;
+    }
+    part.triangles.push_back(tri);
+  }
+  return part;
+}
+
+// The MakeHuman clothes, hair, eyebrows and eyes worn, each in the outfit's colour for it. A
+// suit is cut by nearest bone into its top (shirt, jacket) and bottom (trousers, skirt), so
+// people wear two garments rather than one-colour pyjamas.
+void add_garments(const Person& person, const Rig& rig, const DressCode& dress,
+                  const Eigen::Affine3f& to_world, std::vector<PlacedPart>& parts) {
   for (const Garment& g : person.garments) {
     if (g.triangles.empty()) continue;
-    PlacedPart part;
-    part.name = g.name.substr(g.name.find('/') + 1);
-    part.positions.reserve(g.vertices.size());
-    for (const Vector3f& v : g.vertices) part.positions.push_back(to_world * v);
-    part.normals = vertex_normals(part.positions, g.triangles);
-    for (const Vector3f& r : g.rest_vertices) part.uvs.push_back(body_uv(r));
-    for (const auto& t : g.triangles)
-      part.triangles.emplace_back(static_cast<int>(t[0]), static_cast<int>(t[1]),
-                                  static_cast<int>(t[2]));
+    const std::string name = g.name.substr(g.name.find('/') + 1);
     const bool hair = g.name.starts_with("hair/") || g.name.starts_with("eyebrows/");
     const bool eyes = g.name.starts_with("eyes/");
     const bool shoes = g.name.find("shoes") != std::string::npos;
-    part.paint = eyes              ? Paint::kEyes
-                 : hair            ? Paint::kHair
-                 : shoes           ? Paint::kShoes
-                 : is_suit(g.name) ? Paint::kTop
-                                   : Paint::kBottom;  // hats
+    if (is_suit(g.name) && !shoes) {
+      const std::vector<Region> region = nearest_bone_regions(g.rest_vertices, person, rig, dress);
+      std::vector<char> lower(region.size());
+      for (std::size_t v = 0; v < region.size(); ++v)
+        lower[v] = region[v] == kBottom || region[v] == kShoes;
+      std::vector<char> upper(lower.size());
+      for (std::size_t v = 0; v < lower.size(); ++v) upper[v] = !lower[v];
+      for (const auto& [keep, paint, suffix] : {std::tuple{&upper, Paint::kTop, "_top"},
+                                                std::tuple{&lower, Paint::kBottom, "_bottom"}}) {
+        PlacedPart part = garment_part(g, to_world, *keep);
+        if (part.triangles.empty()) continue;
+        part.name = name + suffix;
+        part.paint = paint;
+        parts.push_back(std::move(part));
+      }
+      continue;
+    }
+    PlacedPart part = garment_part(g, to_world);
+    part.name = name;
+    part.paint = eyes    ? Paint::kEyes
+                 : hair  ? Paint::kHair
+                 : shoes ? Paint::kShoes
+                         : Paint::kBottom;  // hats
     parts.push_back(std::move(part));
   }
 }
@@ -177,7 +237,7 @@ std::vector<PlacedPart> place_person(const Person& person, const Rig& rig, const
                                      const Eigen::Affine3f& to_world) {
   std::vector<PlacedPart> parts;
   add_body_regions(person, rig, dress, to_world, parts);
-  add_garments(person, to_world, parts);
+  add_garments(person, rig, dress, to_world, parts);
   add_wheelchair(person.chair, to_world, "wheelchair_", parts);
   add_mobility_aid(person.aid, to_world, parts);
   return parts;

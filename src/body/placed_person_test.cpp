@@ -104,7 +104,8 @@ TEST(PlacedPerson, SleevesTrousersAndSuitsDecideWhatShowsSkin) {
   EXPECT_LT(triangles_of(bare, "bottom"), triangles_of(covered, "bottom"));
   EXPECT_EQ(triangles_of(bare, "shoes"), triangles_of(covered, "shoes"));
 
-  // A worn suit covers the body: what shows of the body is skin, the suit wears the top colour.
+  // A worn suit covers the body: what shows of the body is skin; the suit is cut by nearest bone
+  // into a top (the top colour) and a bottom (the bottom colour) that share all its triangles.
   spec.proxies = {"clothes/male_casualsuit01"};
   const Person suited = build_person(body_data(), spec);
   const std::vector<PlacedPart> parts =
@@ -113,8 +114,25 @@ TEST(PlacedPerson, SleevesTrousersAndSuitsDecideWhatShowsSkin) {
   EXPECT_EQ(find_part(parts, "bottom"), nullptr);
   ASSERT_NE(find_part(parts, "skin"), nullptr);
   EXPECT_EQ(find_part(parts, "skin")->triangles.size(), suited.triangles.size());
-  ASSERT_NE(find_part(parts, "male_casualsuit01"), nullptr);
-  EXPECT_EQ(find_part(parts, "male_casualsuit01")->paint, Paint::kTop);
+  EXPECT_EQ(find_part(parts, "male_casualsuit01"), nullptr);
+  const PlacedPart* top = find_part(parts, "male_casualsuit01_top");
+  const PlacedPart* bottom = find_part(parts, "male_casualsuit01_bottom");
+  ASSERT_NE(top, nullptr);
+  ASSERT_NE(bottom, nullptr);
+  EXPECT_EQ(top->paint, Paint::kTop);
+  EXPECT_EQ(bottom->paint, Paint::kBottom);
+  const auto suit =
+      std::find_if(suited.garments.begin(), suited.garments.end(),
+                   [](const Garment& g) { return g.name == "clothes/male_casualsuit01"; });
+  ASSERT_NE(suit, suited.garments.end());
+  EXPECT_EQ(top->triangles.size() + bottom->triangles.size(), suit->triangles.size());
+  // The trousers hang below the shirt (the highest point of each, seated or not).
+  const auto highest = [](const PlacedPart& p) {
+    float y = -INFINITY;
+    for (const auto& v : p.positions) y = std::max(y, v.y());
+    return y;
+  };
+  EXPECT_LT(highest(*bottom), highest(*top) - 0.2f);
 }
 
 TEST(PlacedPerson, AnEmptyWheelchairHasItsPartsAndNoBody) {

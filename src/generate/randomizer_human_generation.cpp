@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "generate/garment_palette.h"
 #include "generate/randomizer.h"
 
 namespace wheelpose::generate {
@@ -23,26 +24,13 @@ constexpr Ethnicity kEthnicities[] = {{"caucasian", 0.0, 0.0, 1.0},
                                       {"african", 1.0, 0.0, 0.0},
                                       {"middle_eastern", 0.15, 0.15, 0.7}};
 
-scene::Material garment(RandomStream& rng, const std::string& name) {
-  scene::Material m;
-  m.name = name;
-  m.diffuse = Eigen::Vector3f::Ones();
-  const double u = rng.uniform01();
-  m.texture.kind = u < 0.5   ? scene::TextureKind::kFabric
-                   : u < 0.7 ? scene::TextureKind::kStripes
-                   : u < 0.8 ? scene::TextureKind::kChecker
-                             : scene::TextureKind::kNoise;
-  const Eigen::Vector3f base(static_cast<float>(rng.uniform(0.03, 0.9)),
-                             static_cast<float>(rng.uniform(0.03, 0.9)),
-                             static_cast<float>(rng.uniform(0.03, 0.9)));
-  m.texture.color_a = base;
-  m.texture.color_b = rng.bernoulli(0.6) ? (base * 0.6f).eval()
-                                         : Eigen::Vector3f(static_cast<float>(rng.uniform01()),
-                                                           static_cast<float>(rng.uniform01()),
-                                                           static_cast<float>(rng.uniform01()));
-  m.texture.scale = static_cast<float>(rng.uniform(4, 40));
-  m.texture.seed = rng.next_u64();
-  return m;
+GarmentColours garment_colours_of(const ConfigNode* c) {
+  if (c == nullptr || !c->has("garment_colours")) return GarmentColours::kPalette;
+  const ConfigNode node = c->child("garment_colours");
+  const std::string value = node.as_string();
+  if (value == "palette") return GarmentColours::kPalette;
+  if (value == "uniform") return GarmentColours::kUniform;
+  node.fail("must be palette or uniform, not '" + value + "'");
 }
 
 // `exclude_assets`: MakeHuman asset names ("clothes/…", "hair/…") never drawn, so a test set can
@@ -76,7 +64,8 @@ class HumanGeneration final : public Randomizer {
         clothing_(number_or(c, "clothing_probability", 1.0, 0.0, 1.0)),
         hair_(number_or(c, "hair_probability", 0.85, 0.0, 1.0)),
         hat_(number_or(c, "hat_probability", 0.1, 0.0, 1.0)),
-        excluded_(asset_list(c, "exclude_assets")) {
+        excluded_(asset_list(c, "exclude_assets")),
+        garment_colours_(garment_colours_of(c)) {
     if (max_count_ < min_count_) c->fail("max_per_frame is below min_per_frame");
   }
 
@@ -108,9 +97,9 @@ class HumanGeneration final : public Randomizer {
       m.caucasian = e.caucasian;
       const double tone = 0.12 * e.african + 0.6 * e.asian + 0.8 * e.caucasian;
       m.skin_tone = std::clamp(tone + member.normal(0.0, 0.08), 0.0, 1.0);
-      p.outfit.top = garment(member, "top");
-      p.outfit.bottom = garment(member, "bottom");
-      p.outfit.shoes = garment(member, "shoes");
+      p.outfit.top = garment_material(member, "top", garment_colours_);
+      p.outfit.bottom = garment_material(member, "bottom", garment_colours_);
+      p.outfit.shoes = garment_material(member, "shoes", garment_colours_);
       p.outfit.shoes.texture.kind = scene::TextureKind::kNone;
       p.outfit.shoes.diffuse = p.outfit.shoes.texture.color_a * 0.5f;
       p.outfit.long_sleeves = member.bernoulli(0.6);
@@ -163,17 +152,19 @@ class HumanGeneration final : public Randomizer {
   }
 
   nlohmann::ordered_json parameters() const override {
-    nlohmann::ordered_json out = {{"pool_size", pool_size_},
-                                  {"pool_refresh_frames", refresh_},
-                                  {"min_per_frame", min_count_},
-                                  {"max_per_frame", max_count_},
-                                  {"age", age_.describe()},
-                                  {"height", height_.describe()},
-                                  {"weight", weight_.describe()},
-                                  {"gender", gender_.describe()},
-                                  {"clothing_probability", clothing_},
-                                  {"hair_probability", hair_},
-                                  {"hat_probability", hat_}};
+    nlohmann::ordered_json out = {
+        {"pool_size", pool_size_},
+        {"pool_refresh_frames", refresh_},
+        {"min_per_frame", min_count_},
+        {"max_per_frame", max_count_},
+        {"age", age_.describe()},
+        {"height", height_.describe()},
+        {"weight", weight_.describe()},
+        {"gender", gender_.describe()},
+        {"clothing_probability", clothing_},
+        {"hair_probability", hair_},
+        {"hat_probability", hat_},
+        {"garment_colours", garment_colours_ == GarmentColours::kPalette ? "palette" : "uniform"}};
     if (!excluded_.empty()) out["exclude_assets"] = excluded_;  // absent: earlier files unchanged
     return out;
   }
@@ -202,6 +193,7 @@ class HumanGeneration final : public Randomizer {
   ScalarSampler age_, height_, weight_, gender_;
   double clothing_, hair_, hat_;
   std::vector<std::string> excluded_;
+  GarmentColours garment_colours_;
 };
 
 }  // namespace
@@ -217,8 +209,13 @@ extern const RandomizerEntry kHumanGenerationRandomizer = {
     "0.2/0.3/0.5, Middle Eastern 0.15/0.15/0.7), skin tone from the blend ± N(0, 0.08), muscle and "
     "proportions as `wheelpose body sample`. Clothing: with `clothing_probability` = 1 a "
     "MakeHuman CC0 suit for the person's sex and shoes, fitted through their `.mhclo` proxies "
-    "(the skin they cover is hidden), coloured with fabric, stripe, checker or noise patterns "
-    "(the assets carry no textures); `hair_probability` = 0.85 one of the hair proxies (dark, "
+    "(the skin they cover is hidden), the suit cut by nearest bone into a top and a bottom; "
+    "`garment_colours` = palette draws each garment's colour from everyday clothing shades "
+    "(four fifths muted: black, greys, white, cream, beige, browns, navy, denims, olive, "
+    "burgundy; a fifth saturated), jittered, as a plain weave (0.6), heather (0.2), stripes "
+    "(0.12) or checks (0.08); `uniform` is the earlier draw, each channel U(0.03, 0.9) with half "
+    "the garments striped, checked or mottled (the assets carry no textures); `hair_probability` = "
+    "0.85 one of the hair proxies (dark, "
     "brown, blond or grey; older people greyer), `hat_probability` = 0.1 a hat instead, and "
     "eyebrows and low-poly eyes (an iris colour: the assets' textures are absent). "
     "`exclude_assets` "
