@@ -400,6 +400,13 @@ TEST(CocoViz, DrawsOverlaysAndContactSheet) {
   EXPECT_GT(ring[0] + ring[1] + ring[2], 600) << "nose outline not white";
   EXPECT_GT(cv::norm(overlay, original, cv::NORM_L1), 0.0);
   EXPECT_FALSE(cv::imread((dir / "viz" / "contact_sheet.png").string()).empty());
+  // --plain: the frame as it is, no overlay.
+  const auto plain = run_wheelpose("coco viz " + kSample + " --images " + kSampleDir +
+                                   " --n 1 --plain --out " + (dir / "plain").string());
+  ASSERT_EQ(plain.exit_code, 0) << plain.output;
+  EXPECT_EQ(
+      cv::norm(cv::imread((dir / "plain" / "000000000785.png").string()), original, cv::NORM_INF),
+      0.0);
   // Images that are not there are named.
   const auto missing = run_wheelpose("coco viz " + kSample + " --images " + dir.string() +
                                      " --out " + (dir / "v2").string());

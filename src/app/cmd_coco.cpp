@@ -35,6 +35,7 @@ struct CocoOptions {
   std::int64_t n = 0;
   std::uint64_t seed = 0;
   bool even = false;
+  bool plain = false;  // viz: no overlays
   std::string ratios = "0.8,0.1,0.1";
   std::string names;
   std::string group_by = "motion";
@@ -149,7 +150,7 @@ void run_export(const CocoOptions& o) {
 
 void run_viz(const CocoOptions& o) {
   const json root = dataset::load_json(o.file);
-  const std::size_t drawn = dataset::visualize_coco(root, o.file, o.images, o.out, o.n);
+  const std::size_t drawn = dataset::visualize_coco(root, o.file, o.images, o.out, o.n, !o.plain);
   spdlog::info("{}: {} images and contact_sheet.png", o.out, drawn);
 }
 
@@ -228,6 +229,7 @@ void attach_coco(CLI::App& parent) {
   viz->add_option("--out", o->out, "Output directory")->required();
   o->n = 16;
   viz->add_option("--n", o->n, "Number of images (first by id; default 16)");
+  viz->add_flag("--plain", o->plain, "The images without overlays (a contact sheet of the frames)");
   viz->callback([o] { run_viz(*o); });
 
   auto* yolo = coco->add_subcommand(

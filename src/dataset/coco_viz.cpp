@@ -90,7 +90,7 @@ void ContactSheet::place(std::size_t index, const cv::Mat& image) {
 
 std::size_t visualize_coco(const json& root, const std::string& source,
                            const std::filesystem::path& images_dir,
-                           const std::filesystem::path& out_dir, std::int64_t n) {
+                           const std::filesystem::path& out_dir, std::int64_t n, bool overlays) {
   require_usable(root, source);
   if (n < 1) throw Error("coco viz: --n must be >= 1");
   std::unordered_map<std::int64_t, std::vector<std::pair<int, int>>> skeletons;
@@ -125,7 +125,7 @@ std::size_t visualize_coco(const json& root, const std::string& source,
     std::sort(anns.begin(), anns.end(), [](const json* a, const json* b) {
       return *as_integer((*a)["id"]) < *as_integer((*b)["id"]);
     });
-    for (std::size_t k = 0; k < anns.size(); ++k) {
+    for (std::size_t k = 0; overlays && k < anns.size(); ++k) {
       draw_annotation(canvas, *anns[k], skeletons[*as_integer((*anns[k])["category_id"])],
                       kPalette[k % std::size(kPalette)]);
     }

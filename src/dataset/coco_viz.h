@@ -26,10 +26,13 @@ class ContactSheet {
   cv::Mat sheet_;
 };
 
-// Draws the first `n` images by id into out_dir/<file stem>.png and out_dir/contact_sheet.png.
-// Returns the number of images drawn. A missing or unreadable image is an error naming it.
+// Draws the first `n` images by id into out_dir/<file stem>.png and out_dir/contact_sheet.png;
+// with `overlays` false the images are copied as they are (a contact sheet of the frames
+// themselves). Returns the number of images drawn. A missing or unreadable image is an error
+// naming it.
 std::size_t visualize_coco(const json& root, const std::string& source,
                            const std::filesystem::path& images_dir,
-                           const std::filesystem::path& out_dir, std::int64_t n);
+                           const std::filesystem::path& out_dir, std::int64_t n,
+                           bool overlays = true);
 
 }  // namespace wheelpose::dataset
