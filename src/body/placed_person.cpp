@@ -69,6 +69,31 @@ Eigen::Vector2f body_uv(const Vector3f& rest) {
                          rest.y() / 1.8f);
 }
 
+// The triangles whose first vertex passes `keep`, re-indexed into a part of their own: world
+// positions and normals, UVs from the rest (unposed) positions.
+template <typename Triangles, typename Keep>
+PlacedPart cut_part(const std::vector<Vector3f>& world, const std::vector<Vector3f>& normals,
+                    const std::vector<Vector3f>& rest, const Triangles& triangles, Keep keep) {
+  PlacedPart part;
+  std::vector<int> local(world.size(), -1);
+  for (const auto& t : triangles) {
+    if (!keep(static_cast<int>(t[0]))) continue;
+    Eigen::Vector3i tri;
+    for (int c = 0; c < 3; ++c) {
+      int& l = local[t[c]];
+      if (l < 0) {
+        l = static_cast<int>(part.positions.size());
+        part.positions.push_back(world[t[c]]);
+        part.normals.push_back(normals[t[c]]);
+        part.uvs.push_back(body_uv(rest[t[c]]));
+      }
+      tri[c] = l;
+    }
+    part.triangles.push_back(tri);
+  }
+  return part;
+}
+
 // The body, split into skin and the outfit's top, bottom and shoes: a worn suit covers the body,
 // so what shows of it is skin; otherwise the body is painted by bone.
 void add_body_regions(const Person& person, const Rig& rig, const DressCode& dress,
@@ -86,26 +111,11 @@ void add_body_regions(const Person& person, const Rig& rig, const DressCode& dre
   static const char* kRegionNames[] = {"skin", "top", "bottom", "shoes"};
   static const Paint kRegionPaint[] = {Paint::kSkin, Paint::kTop, Paint::kBottom, Paint::kShoes};
   for (int r = kSkin; r <= kShoes; ++r) {
-    PlacedPart part;
+    PlacedPart part = cut_part(world, normals, person.rest_vertices, person.triangles,
+                               [&](int v) { return region[v] == r; });
     part.name = kRegionNames[r];
     part.paint = kRegionPaint[r];
     part.colour = person.skin;
-    std::vector<int> local(world.size(), -1);
-    for (const auto& t : person.triangles) {
-      if (region[t[0]] != r) continue;
-      Eigen::Vector3i tri;
-      for (int c = 0; c < 3; ++c) {
-        int& l = local[t[c]];
-        if (l < 0) {
-          l = static_cast<int>(part.positions.size());
-          part.positions.push_back(world[t[c]]);
-          part.normals.push_back(normals[t[c]]);
-          part.uvs.push_back(body_uv(person.rest_vertices[t[c]]));
-        }
-        tri[c] = l;
-      }
-      part.triangles.push_back(tri);
-    }
     if (!part.triangles.empty()) parts.push_back(std::move(part));
   }
 }
@@ -127,27 +137,10 @@ PlacedPart garment_part(const Garment& g, const Eigen::Affine3f& to_world) {
 // garment, so the cut leaves no seam in the shading).
 PlacedPart garment_part(const Garment& g, const Eigen::Affine3f& to_world,
                         const std::vector<char>& keep) {
-  PlacedPart part;
   std::vector<Vector3f> world(g.vertices.size());
   for (std::size_t v = 0; v < world.size(); ++v) world[v] = to_world * g.vertices[v];
-  const std::vector<Vector3f> normals = vertex_normals(world, g.triangles);
-  std::vector<int> local(world.size(), -1);
-  for (const auto& t : g.triangles) {
-    if (!keep[t[0]]) continue;
-    Eigen::Vector3i tri;
-    for (int c = 0; c < 3; ++c) {
-      int& l = local[t[c]];
-      if (l < 0) {
-        l = static_cast<int>(part.positions.size());
-        part.positions.push_back(world[t[c]]);
-        part.normals.push_back(normals[t[c]]);
-        part.uvs.push_back(body_uv(g.rest_vertices[t[c]]));
-      }
-      tri[c] = l;
-    }
-    part.triangles.push_back(tri);
-  }
-  return part;
+  return cut_part(world, vertex_normals(world, g.triangles), g.rest_vertices, g.triangles,
+                  [&](int v) { return keep[v] != 0; });
 }
 
 // The MakeHuman clothes, hair, eyebrows and eyes worn, each in the outfit's colour for it. A

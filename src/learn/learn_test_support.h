@@ -14,6 +14,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "learn/train_data.h"
 
 namespace wheelpose::learn::testing {
 
@@ -70,6 +71,21 @@ inline fs::path write_skier_set(const fs::path& dir) {
   write_file_atomic(dir / "gt.json", gt.dump());
   fs::copy_file(shared / "000000000785.jpg", dir / "000000000785.jpg");
   return dir / "gt.json";
+}
+
+// Augmentation switched off: the image scaled so its longer side is `longer_side`, centred on
+// the chosen person, nothing else changed.
+inline AugmentOptions no_augmentation(int input_size, int longer_side) {
+  return {.input_size = input_size,
+          .target_longer_side = longer_side,
+          .scale_min = 1,
+          .scale_max = 1,
+          .shift_fraction = 0,
+          .rotate_degrees = 0,
+          .flip_probability = 0,
+          .color_jitter = 0,
+          .blur_probability = 0,
+          .jpeg_probability = 0};
 }
 
 // A fresh empty directory under the system temp dir, removed when destroyed.

@@ -131,16 +131,7 @@ TEST(TargetConventions, ThePretrainedModelAgreesWithTheTargets) {
   const TrainImage* skier = &set.images.at(0);
   cv::Mat rgb;
   cv::cvtColor(cv::imread(skier->file.string()), rgb, cv::COLOR_BGR2RGB);
-  const AugmentOptions unaugmented{.input_size = 256,
-                                   .target_longer_side = 256,
-                                   .scale_min = 1,
-                                   .scale_max = 1,
-                                   .shift_fraction = 0,
-                                   .rotate_degrees = 0,
-                                   .flip_probability = 0,
-                                   .color_jitter = 0,
-                                   .blur_probability = 0,
-                                   .jpeg_probability = 0};
+  const AugmentOptions unaugmented = testing::no_augmentation(256, 256);
   const TrainBatch b = make_train_batch({augment(rgb, skier->people, {}, unaugmented, 1, 0)}, 256);
   ASSERT_EQ(b.centre_index.size(0), 1);
   GraphModule model(testing::model_json("movenet-multipose"));

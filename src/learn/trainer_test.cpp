@@ -46,16 +46,7 @@ TEST(Trainer, LossFallsOnAFixedSample) {
 
   TrainOptions o = skier_run(gt, dir / "run", 12, 2);
   o.freeze_backbone_steps = 12;
-  o.augment = {.input_size = 128,
-               .target_longer_side = 160,
-               .scale_min = 1,
-               .scale_max = 1,
-               .shift_fraction = 0,
-               .rotate_degrees = 0,
-               .flip_probability = 0,
-               .color_jitter = 0,
-               .blur_probability = 0,
-               .jpeg_probability = 0};
+  o.augment = testing::no_augmentation(128, 160);
   const TrainResult r = train(o);
   ASSERT_EQ(r.steps.size(), 12u);
   const double first = r.steps.front().loss;
