@@ -1,6 +1,7 @@
 // End-to-end tests of the photo-real options of `wheelpose generate`: black-body lights, interior
 // rooms, the phone camera's pipeline (recorded per image, JPEG at its drawn quality with 4:2:0
-// chroma, shrunk-and-enlarged frames that keep their labels) and their bad values.
+// chroma, shrunk-and-enlarged frames that keep their labels, the same bytes on one thread) and
+// their bad values.
 
 #include <gtest/gtest.h>
 
@@ -78,6 +79,15 @@ TEST(PhotorealCli, PhoneCameraIsRecordedAndShapesTheFile) {
   EXPECT_EQ(low["annotations"].size(), plain["annotations"].size());
   for (std::size_t a = 0; a < plain["annotations"].size(); ++a) {
     EXPECT_EQ(low["annotations"][a]["keypoints"], plain["annotations"][a]["keypoints"]);
+  }
+  // Noise, exposure and resampling are seeded per frame: one thread gives the same bytes.
+  const fs::path config = dir / "low.yaml";
+  const auto single = run_wheelpose("generate --config " + config.string() + " --out " +
+                                    (dir / "low1").string() + " --frames 2 --seed 5 --threads 1");
+  ASSERT_EQ(single.exit_code, 0) << single.output;
+  for (std::size_t i = 0; i < 2; ++i) {
+    const std::string file = low["images"][i]["file_name"];
+    EXPECT_EQ(read_text(dir / "low1" / "images" / file), read_text(dir / "low" / "images" / file));
   }
   // Recorded in scenario.json with the settings used.
   const json scenario = json::parse(read_text(dir / "low" / "scenario.json"));

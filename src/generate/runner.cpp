@@ -64,7 +64,7 @@ std::vector<std::uint8_t> encode_image(const cv::Mat& rgb, const std::string& fo
   std::vector<std::uint8_t> bytes;
   std::vector<int> params;
   // OpenCV 4.6 leaves chroma subsampling at libjpeg's default, 4:2:0, as phones write it
-  // (runner_test checks the frame header).
+  // (PhotorealCli checks the frame header).
   if (format == "jpg") params = {cv::IMWRITE_JPEG_QUALITY, quality, cv::IMWRITE_JPEG_OPTIMIZE, 0};
   if (!cv::imencode("." + format, bgr, bytes, params)) throw Error("cannot encode " + format);
   return bytes;
