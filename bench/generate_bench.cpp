@@ -4,12 +4,17 @@
 //   BM_GeneratePeakRss/N: N frames at 320x180, 1 spp; counter peak_rss_mb (VmHWM of the run,
 //     reset before it; registered first so no larger frame's buffers are resident yet; a flat
 //     figure means memory does not grow with the frame count).
+//   BM_GenerateRealistic/{0,1,2}: 48 frames of the realistic scenario side by side — 0 before
+//     the photo-real changes (its photo-real block cut: coloured lights, paper textures, hue
+//     rotation), 1 configs/boost-realistic.yaml (black-body lights, interior rooms), 2
+//     configs/boost-realistic-train.yaml (also the phone camera); counter ms_per_image.
 // Run: build/release/bench/bench_generate
 
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include "core/config.h"
@@ -72,6 +77,40 @@ void BM_GeneratePaperPreset(benchmark::State& state) {
     fs::remove_all(o.out);
   }
 }
+// The realistic scenario as the benchmark argument chooses (see the top of the file).
+wheelpose::generate::Scenario realistic_scenario(std::int64_t which) {
+  const fs::path configs = fs::path(WHEELPOSE_SOURCE_DIR) / "configs";
+  const fs::path file =
+      configs / (which == 2 ? "boost-realistic-train.yaml" : "boost-realistic.yaml");
+  std::ostringstream text;
+  text << std::ifstream(file).rdbuf();
+  std::string yaml = text.str();
+  if (which == 0) yaml = yaml.substr(0, yaml.find("  # Photo-real light"));
+  return wheelpose::generate::Scenario::from_config(
+      wheelpose::ConfigNode::load_string(yaml, file.string()));
+}
+
+void BM_GenerateRealistic(benchmark::State& state) {
+  const auto scenario = realistic_scenario(state.range(0));
+  for (auto _ : state) {
+    auto o = options("realistic", 48);
+    o.motions.clips_from =
+        (fs::path(WHEELPOSE_SOURCE_DIR) / "configs" / "boost-test-clips.json").string();
+    const auto summary = wheelpose::generate::run_generate(scenario, o);
+    state.SetIterationTime(summary.seconds);
+    state.counters["ms_per_image"] =
+        1000.0 * summary.seconds / static_cast<double>(summary.rendered);
+    fs::remove_all(o.out);
+  }
+}
+BENCHMARK(BM_GenerateRealistic)
+    ->Arg(0)
+    ->Arg(1)
+    ->Arg(2)
+    ->Iterations(1)
+    ->UseManualTime()
+    ->Unit(benchmark::kSecond);
+
 BENCHMARK(BM_GeneratePaperPreset)
     ->Arg(24)
     ->Iterations(1)
