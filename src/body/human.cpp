@@ -334,12 +334,34 @@ std::vector<Eigen::Vector3f> HumanModel::morph(const MacroParams& params) const 
   return v;
 }
 
+namespace {
+// An 8-bit sRGB value in linear light (IEC 61966-2-1).
+float srgb8_to_linear(int value) {
+  const double c = value / 255.0;
+  return static_cast<float>(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+}
+}  // namespace
+
 Eigen::Vector3f skin_colour(double tone) {
-  // Reflectance from deep brown to light pink-beige, through a mid tan.
-  const Eigen::Vector3f dark(0.20f, 0.11f, 0.07f), mid(0.62f, 0.42f, 0.30f),
-      light(0.96f, 0.80f, 0.70f);
+  // Documented skin colours from very dark to very light, as sRGB under daylight: the Monk Skin
+  // Tone scale's darkest and second-lightest swatches (MST-10 #292420, MST-2 #f3e7db; Google,
+  // CC BY 4.0) at the ends, the Macbeth ColorChecker's "dark skin" (115, 82, 68) and "light skin"
+  // (194, 150, 130) patches, made to reflect like real skin, between them. Interpolated in
+  // linear light; the result is the diffuse reflectance.
+  struct Anchor {
+    float tone;
+    int r, g, b;
+  };
+  static constexpr Anchor kAnchors[] = {
+      {0.0f, 41, 36, 32}, {0.3f, 115, 82, 68}, {0.65f, 194, 150, 130}, {1.0f, 243, 231, 219}};
+  const auto linear = [](const Anchor& a) {
+    return Eigen::Vector3f(srgb8_to_linear(a.r), srgb8_to_linear(a.g), srgb8_to_linear(a.b));
+  };
   const float t = static_cast<float>(std::clamp(tone, 0.0, 1.0));
-  return t < 0.5f ? dark + (mid - dark) * (2 * t) : mid + (light - mid) * (2 * t - 1);
+  std::size_t i = 1;
+  while (i + 1 < std::size(kAnchors) && t > kAnchors[i].tone) ++i;
+  const float f = (t - kAnchors[i - 1].tone) / (kAnchors[i].tone - kAnchors[i - 1].tone);
+  return linear(kAnchors[i - 1]) * (1 - f) + linear(kAnchors[i]) * f;
 }
 
 }  // namespace wheelpose::body

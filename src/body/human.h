@@ -92,7 +92,7 @@ class HumanModel {
   mutable std::unordered_map<std::string, std::unique_ptr<SparseTarget>> cache_;
 };
 
-// Skin colour (linear-ish sRGB, 0..1) for a continuous tone.
+// Diffuse reflectance (linear RGB) of skin at `tone` 0 (very dark) … 1 (very light).
 Eigen::Vector3f skin_colour(double tone);
 
 }  // namespace wheelpose::body

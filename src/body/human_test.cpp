@@ -159,3 +159,34 @@ TEST(Assets, CorruptGzipIsReported) {
 
 }  // namespace
 }  // namespace wheelpose::body
+
+namespace wheelpose::body {
+namespace {
+
+// The ramp passes through its documented anchors (8-bit sRGB decoded to linear) and gets
+// lighter all the way.
+TEST(SkinColour, PassesThroughTheDocumentedSwatchesAndLightens) {
+  const auto linear = [](int v) {
+    const double c = v / 255.0;
+    return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+  };
+  const Eigen::Vector3f darkest = skin_colour(0.0), dark_skin = skin_colour(0.3),
+                        light_skin = skin_colour(0.65), lightest = skin_colour(1.0);
+  EXPECT_NEAR(darkest.x(), linear(41), 1e-6);      // Monk MST-10
+  EXPECT_NEAR(dark_skin.y(), linear(82), 1e-6);    // ColorChecker dark skin
+  EXPECT_NEAR(light_skin.z(), linear(130), 1e-6);  // ColorChecker light skin
+  EXPECT_NEAR(lightest.x(), linear(243), 1e-6);    // Monk MST-2
+  float last = -1;
+  for (double t = 0; t <= 1.0001; t += 0.05) {
+    const Eigen::Vector3f c = skin_colour(t);
+    const float luminance = 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z();
+    EXPECT_GT(luminance, last) << t;
+    EXPECT_GE(c.x(), c.z()) << t;  // skin is redder than it is blue
+    last = luminance;
+  }
+  EXPECT_EQ(skin_colour(-1), darkest);
+  EXPECT_EQ(skin_colour(2), lightest);
+}
+
+}  // namespace
+}  // namespace wheelpose::body
