@@ -9,6 +9,7 @@
 
 #include "body/assets.h"
 #include "core/error.h"
+#include "core/srgb.h"
 
 namespace wheelpose::body {
 
@@ -334,14 +335,6 @@ std::vector<Eigen::Vector3f> HumanModel::morph(const MacroParams& params) const 
   return v;
 }
 
-namespace {
-// An 8-bit sRGB value in linear light (IEC 61966-2-1).
-float srgb8_to_linear(int value) {
-  const double c = value / 255.0;
-  return static_cast<float>(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
-}
-}  // namespace
-
 Eigen::Vector3f skin_colour(double tone) {
   // Documented skin colours from very dark to very light, as sRGB under daylight: the Monk Skin
   // Tone scale's darkest and second-lightest swatches (MST-10 #292420, MST-2 #f3e7db; Google,
@@ -350,13 +343,11 @@ Eigen::Vector3f skin_colour(double tone) {
   // linear light; the result is the diffuse reflectance.
   struct Anchor {
     float tone;
-    int r, g, b;
+    unsigned rgb;
   };
   static constexpr Anchor kAnchors[] = {
-      {0.0f, 41, 36, 32}, {0.3f, 115, 82, 68}, {0.65f, 194, 150, 130}, {1.0f, 243, 231, 219}};
-  const auto linear = [](const Anchor& a) {
-    return Eigen::Vector3f(srgb8_to_linear(a.r), srgb8_to_linear(a.g), srgb8_to_linear(a.b));
-  };
+      {0.0f, 0x292420}, {0.3f, 0x735244}, {0.65f, 0xc29682}, {1.0f, 0xf3e7db}};
+  const auto linear = [](const Anchor& a) { return linear_from_srgb_hex(a.rgb); };
   const float t = static_cast<float>(std::clamp(tone, 0.0, 1.0));
   std::size_t i = 1;
   while (i + 1 < std::size(kAnchors) && t > kAnchors[i].tone) ++i;

@@ -2,7 +2,7 @@
 
 #include <array>
 
-#include "render/texture.h"
+#include "core/srgb.h"
 
 namespace wheelpose::generate {
 namespace {
@@ -29,10 +29,8 @@ constexpr std::array<Swatch, 26> kSwatches = {{
 constexpr double kSaturatedShare = 0.2;
 
 GarmentShade shade_of(const Swatch& s) {
-  const auto channel = [&](int shift) {
-    return render::srgb_to_linear(static_cast<float>((s.rgb >> shift) & 0xff) / 255.0f);
-  };
-  return {s.name, channel(16), channel(8), channel(0), s.saturated};
+  const Eigen::Vector3f c = linear_from_srgb_hex(s.rgb);
+  return {s.name, c.x(), c.y(), c.z(), s.saturated};
 }
 
 // A palette shade, a fifth of the time a saturated one, its brightness and each channel

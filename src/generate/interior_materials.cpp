@@ -2,7 +2,7 @@
 
 #include <array>
 
-#include "render/texture.h"
+#include "core/srgb.h"
 
 namespace wheelpose::generate {
 namespace {
@@ -18,16 +18,10 @@ constexpr std::array<unsigned, 6> kTiles = {0xe9e7e2, 0xcfcac1, 0xa9a6a0,
 constexpr std::array<unsigned, 8> kCarpets = {0x8a8174, 0x5f6470, 0x7b6a58, 0xa59c8f,
                                               0x4b5a4f, 0x6e5a5a, 0x3c4452, 0xb0a48f};
 
-Eigen::Vector3f linear(unsigned rgb) {
-  const auto channel = [&](int shift) {
-    return render::srgb_to_linear(static_cast<float>((rgb >> shift) & 0xff) / 255.0f);
-  };
-  return {channel(16), channel(8), channel(0)};
-}
-
 template <std::size_t N>
 Eigen::Vector3f pick(RandomStream& rng, const std::array<unsigned, N>& swatches) {
-  const Eigen::Vector3f c = linear(swatches[rng.uniform_int(0, static_cast<std::int64_t>(N) - 1)]);
+  const Eigen::Vector3f c =
+      linear_from_srgb_hex(swatches[rng.uniform_int(0, static_cast<std::int64_t>(N) - 1)]);
   return (c * static_cast<float>(rng.uniform(0.9, 1.1))).cwiseMin(0.92f);
 }
 

@@ -70,15 +70,6 @@ float fract(float x) { return x - std::floor(x); }
 
 }  // namespace
 
-float srgb_to_linear(float c) {
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
-
-float linear_to_srgb(float c) {
-  c = std::clamp(c, 0.0f, 1.0f);
-  return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-}
-
 cv::Mat load_linear_image(const std::string& path, const std::string& what) {
   // Checked first so OpenCV does not print its own warning for a missing file.
   if (!std::filesystem::is_regular_file(path))

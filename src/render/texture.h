@@ -5,13 +5,10 @@
 #include <opencv2/core.hpp>
 #include <string>
 
+#include "core/srgb.h"
 #include "scene/scene.h"
 
 namespace wheelpose::render {
-
-// sRGB transfer functions (IEC 61966-2-1).
-float srgb_to_linear(float c);
-float linear_to_srgb(float c);
 
 // Reads an image file as linear RGB floats (CV_32FC3, RGB order). 8/16-bit images are sRGB
 // decoded; float images (.hdr) are taken as linear. `what` names the scene entry for errors
