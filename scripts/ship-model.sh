@@ -48,7 +48,13 @@ row() {
     | "| \($name) | \(cell($x.keypoints.AP; $y.keypoints.AP)) | \(cell($x.bbox.AP; $y.bbox.AP)) | \(cell($x.bbox.AP50; $y.bbox.AP50)) |"
   ' "$results"
 }
-frames() { jq -r --arg set "$1" '.config' "$results" | grep -A1 "^  $1:" | grep -o 'frames: [0-9]*' | cut -d' ' -f2; }
+# frames SET: how many frames the experiment generated for SET (its generate step's images).
+frames() {
+  local id
+  id=$(jq -er --arg set "$1" '[.steps[] | select(.kind == "generate" and
+    (.id | test("^generate-" + $set + "-[0-9a-f]+$")))] | first | .id' "$results")
+  jq '.images | length' "$out/steps/$id/annotations.json"
+}
 real_label="real photos of lexra/wheelchair's two dev folders (GitHub, no licence stated; measured on only)"
 rows() {  # rows BEFORE AFTER REAL_SIZE
   row "generated, paper preset ($(frames test) frames, held-out clips, chair and aid)" test "$1" "$2"
