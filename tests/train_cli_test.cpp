@@ -222,6 +222,12 @@ TEST(TrainCli, BadInputIsOneLineAndLeavesTheCheckpoint) {
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("empty.json"), std::string::npos) << r.output;
 
+  r = run_wheelpose(small_run(gt, dir / "capped") + " --max-relative-step -1");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--max-relative-step must not be negative"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "capped"));
+
   json no_image = json::parse(read_text(gt));
   no_image["images"][0]["file_name"] = "missing.jpg";
   std::ofstream(dir / "no_image.json") << no_image.dump();

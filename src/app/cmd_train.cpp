@@ -135,6 +135,10 @@ void attach_train(CLI::App& parent) {
                   "Weight of soft targets from the frozen start model's centre and keypoint "
                   "heatmaps on every batch (keeps what it knows; 0: off)")
       ->capture_default_str();
+  cmd->add_option("--max-relative-step", o.max_relative_step,
+                  "Cap each weight tensor's rate so that at the peak rate its step is at most "
+                  "this fraction of the tensor's RMS (0: off)")
+      ->capture_default_str();
   cmd->add_option("--loader-threads", o.loader_threads, "Batches prepared ahead in parallel")
       ->capture_default_str();
   cmd->add_option("--threads", o.threads, "Torch threads (0 = every core)")

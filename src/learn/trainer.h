@@ -41,6 +41,10 @@ struct TrainOptions {
   // away from the labelled people (weighted by 1 − the label heatmaps), at this weight. Keeps
   // the start's scores where the labels say nothing new. Costs one extra forward pass per step.
   double distill = 0;
+  // > 0: each weight tensor's rate is capped so that at the peak rate its step is at most this
+  // fraction of the tensor's RMS (Adam moves every weight by about the rate whatever its size;
+  // see rate_groups in trainer.cpp). 0: the two groups' rates as they are.
+  double max_relative_step = 0;
   int checkpoint_every = 100;
   int loader_threads = 1;  // batches prepared ahead, each on its own thread
   int threads = 0;         // torch intra-op threads; 0 = every core

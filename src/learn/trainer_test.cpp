@@ -106,5 +106,43 @@ TEST(Trainer, DistillationStartsAtZeroAndGrows) {
   fs::remove_all(dir);
 }
 
+// --max-relative-step: Adam moves each weight by about the rate per step whatever its size, so
+// uncapped, the tensor with the smallest weights changes by a large fraction of itself; capped,
+// no tensor's RMS change exceeds steps × the cap (Adam's step is at most ~1.5 × the rate in
+// its first steps).
+TEST(Trainer, RelativeStepCapBoundsEveryTensorsChange) {
+  const fs::path topology = multipose_topology();
+  if (!fs::exists(topology)) GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";
+  const fs::path dir = fs::temp_directory_path() / "wheelpose_trainer_relative_test";
+  const fs::path gt = write_skier_set(dir);
+  GraphModule pretrained(topology);
+  const auto largest_relative_change = [&](const fs::path& weights) {
+    GraphModule trained(topology);
+    trained.load(weights);
+    const auto after = trained.named_parameters();
+    double largest = 0;
+    for (const auto& p : pretrained.named_parameters()) {
+      const double rms = p.value().pow(2).mean().sqrt().item<double>();
+      const double moved = (after[p.key()] - p.value()).pow(2).mean().sqrt().item<double>();
+      if (rms > 0) largest = std::max(largest, moved / rms);
+    }
+    return largest;
+  };
+  const double cap = 1e-4;
+  TrainOptions o = skier_run(gt, dir / "capped", 2, 1);
+  o.max_relative_step = cap;
+  train(o);
+  const double capped = largest_relative_change(o.out_dir / "last.pt");
+  o.out_dir = dir / "uncapped";
+  o.max_relative_step = 0;
+  train(o);
+  const double uncapped = largest_relative_change(o.out_dir / "last.pt");
+  std::printf("[ NOTE ] largest relative change: capped %.2e, uncapped %.2e\n", capped, uncapped);
+  EXPECT_GT(capped, 0.0);
+  EXPECT_LE(capped, 2 * 1.5 * cap);
+  EXPECT_GT(uncapped, 10 * capped);
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace wheelpose::learn
