@@ -73,6 +73,8 @@ void attach_render(CLI::App& parent) {
                   "Adaptive anti-aliasing: only pixels at an edge (another surface, a crease, a "
                   "depth step, an albedo step above this) take every sample; negative = all "
                   "pixels do (-1 to 1)");
+  cmd->add_flag("--bounce", options->render.bounce,
+                "One diffuse bounce of the sun and point lights (fills shadows; slower)");
   cmd->add_option("--threads", options->threads, "Worker threads (0 = all cores)")
       ->check(CLI::Range(0, 1024));
   cmd->add_option("--seed", options->seed, "Override the scene's sampling seed");

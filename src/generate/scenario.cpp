@@ -31,6 +31,7 @@ render::RenderOptions Scenario::render_options() const {
   options.light_samples = light_samples;
   options.denoise_radius = denoise_radius;
   options.adaptive_contrast = static_cast<float>(adaptive_contrast);
+  options.bounce = bounce;
   return options;
 }
 
@@ -52,6 +53,7 @@ Scenario Scenario::from_config(const ConfigNode& root) {
         image->get_double("adaptive_contrast", s.adaptive_contrast,
                           -std::numeric_limits<double>::max(), std::numeric_limits<double>::max());
     s.jpeg_quality = static_cast<int>(image->get_int("jpeg_quality", s.jpeg_quality, 1, 100));
+    s.bounce = image->get_bool("bounce", s.bounce);
     image->finish();
     try {
       s.render_options().check();
@@ -121,6 +123,8 @@ nlohmann::ordered_json Scenario::to_json() const {
                 {"denoise_radius", denoise_radius},
                 {"adaptive_contrast", adaptive_contrast},
                 {"jpeg_quality", jpeg_quality}};
+  // Written only when on, so the scenarios of earlier runs read back unchanged.
+  if (bounce) j["image"]["bounce"] = true;
   j["labels"] = {{"keypoint_template", keypoint_template_name},
                  {"min_visible_pixels", min_visible_pixels},
                  {"segmentation", segmentation},

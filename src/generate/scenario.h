@@ -2,7 +2,8 @@
 // A generation scenario: image settings, the label template and the configured randomizers, read
 // from one YAML file (configs/wheelpose-paper.yaml holds the defaults):
 //
-//   image: {width, height, spp, light_samples, denoise_radius, adaptive_contrast, jpeg_quality}
+//   image: {width, height, spp, light_samples, denoise_radius, adaptive_contrast, jpeg_quality,
+//           bounce}
 //   labels: {keypoint_template, min_visible_pixels, segmentation, ground_truth_maps}
 //   randomizers: {<Name>: {enabled: bool, <parameter>: <value or distribution>, ...}}
 //
@@ -29,6 +30,7 @@ struct Scenario {
   // Edge threshold of adaptive anti-aliasing (render::RenderOptions; < 0 = uniform sampling).
   double adaptive_contrast = 0.05;
   int jpeg_quality = 95;
+  bool bounce = false;  // one diffuse bounce of the sun and point lights (render::RenderOptions)
   std::string keypoint_template_name = "coco17";
   int min_visible_pixels = 50;
   bool segmentation = true;

@@ -53,12 +53,26 @@ TEST(Scenario, ErrorsNameFileLineAndKey) {
   EXPECT_NE(message("image: {denoise_radius: 40}\n").find("denoise_radius"), std::string::npos);
   EXPECT_NE(message("image: {adaptive_contrast: 2}\n").find("adaptive_contrast"),
             std::string::npos);
+  EXPECT_NE(message("image: {bounce: sometimes}\n").find("bounce"), std::string::npos);
   EXPECT_NE(message("labels: {keypoint_template: nothing.json}\n").find("keypoint_template"),
             std::string::npos);
   EXPECT_NE(message("colour: red\n").find("colour"), std::string::npos);
   EXPECT_NE(message("randomizers:\n  HumanGeneration: {min_per_frame: 9, max_per_frame: 3}\n")
                 .find("max_per_frame"),
             std::string::npos);
+}
+
+// image.bounce reaches the renderer and the recorded scenario; off (the default) it is not
+// written, so the scenarios recorded before it existed read back the same.
+TEST(Scenario, BounceReachesTheRendererAndTheRecord) {
+  const Scenario on =
+      Scenario::from_config(ConfigNode::load_string("image: {bounce: true}\n", "b.yaml"));
+  EXPECT_TRUE(on.render_options().bounce);
+  EXPECT_EQ(on.to_json()["image"]["bounce"], true);
+  const std::string recorded_image = "image: " + on.to_json()["image"].dump() + "\n";
+  EXPECT_TRUE(Scenario::from_config(ConfigNode::load_string(recorded_image, "record")).bounce);
+  EXPECT_FALSE(Scenario::defaults().render_options().bounce);
+  EXPECT_FALSE(Scenario::defaults().to_json()["image"].contains("bounce"));
 }
 
 TEST(Scenario, DisabledRandomizersDoNotRun) {

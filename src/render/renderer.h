@@ -49,6 +49,10 @@ struct RenderOptions {
   // take every sample; < 0 = uniform sampling, every pixel takes spp samples.
   float adaptive_contrast = 0.05f;  // scenario image.adaptive_contrast
   bool post = true;                 // apply Scene::post; false gives the plain sRGB encoding
+  // One diffuse bounce of the sun and point lights (light off walls, floors and people fills
+  // the shadows); off, surfaces see direct light only. Adds a ray and up to two shadow rays
+  // per light sample.
+  bool bounce = false;
 
   // How the fields are spelled in messages: as a scenario's image section names them, or as
   // `wheelpose render`'s flags.

@@ -157,15 +157,25 @@ class Renderer::TileIntegrator {
   void store_ground_truth(FrameBuffers& out) const;
   void shade_packet(int p, int s);
   SurfacePoint surface_at(int p, int k) const;
+  // The surface lane k of `rh` hit, for a ray from `origin` along `dir`; `pixel_angle` sizes
+  // the texture filter (0: a point sample).
+  SurfacePoint surface_of(const RTCRayHit8& rh, int k, const Eigen::Vector3f& origin,
+                          const Eigen::Vector3f& dir, float pixel_angle) const;
+  // RenderOptions::bounce: one cosine-weighted ray from each lit sample of packet p; where it
+  // hits a surface, that surface's light from the sun and one point light, scaled by its albedo,
+  // is light arriving at the sample (an unbiased one-bounce estimate; the sky's bounce is left
+  // out). `primary` says where each lane's light goes, as for its direct light.
+  void add_bounce(int p, RTCRayHit8& rays, PacketMask valid, const ShadowRays& primary);
   void sample_lights(int p, int k, int s, const SurfacePoint& at, ShadowRays& shadows);
   void add_light(ShadowRays& shadows, int q, int k, const Eigen::Vector3f& l, float cos_l,
                  const Eigen::Vector3f& radiance, const SurfacePoint& at,
                  const Eigen::Vector3f& view) const;
-  void sample_sun(int k, int px, int py, const Eigen::Vector3f& origin, const SurfacePoint& at,
-                  const Eigen::Vector3f& view, ShadowRays& shadows) const;
-  void sample_point_light(int k, int px, int py, RandomStream& rng, const Eigen::Vector3f& origin,
-                          const SurfacePoint& at, const Eigen::Vector3f& view,
-                          ShadowRays& shadows) const;
+  // `u`: the two random numbers of the light's sample (stratified for primary surfaces).
+  void sample_sun(int k, std::array<float, 2> u, const Eigen::Vector3f& origin,
+                  const SurfacePoint& at, const Eigen::Vector3f& view, ShadowRays& shadows) const;
+  void sample_point_light(int k, std::array<float, 2> u, RandomStream& rng,
+                          const Eigen::Vector3f& origin, const SurfacePoint& at,
+                          const Eigen::Vector3f& view, ShadowRays& shadows) const;
   void sample_environment(int k, int px, int py, RandomStream& rng, const Eigen::Vector3f& origin,
                           const SurfacePoint& at, ShadowRays& shadows) const;
   void resolve_shadows(int p, ShadowRays& shadows);

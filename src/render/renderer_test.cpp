@@ -151,6 +151,35 @@ TEST(Renderer, ABoxBetweenSunAndWallCastsAShadow) {
   EXPECT_NEAR(f.linear.at<cv::Vec3f>(2, 2)[0], 1.0f, 1e-5f);
 }
 
+// A wall the sun only grazes (straight down), above a wide sunlit floor: direct light leaves it
+// black; one bounce lights it with the floor's radiance times the view factor of a vertical
+// surface to an infinite floor below it, 1/2, whatever the height — a_wall × a_floor × I / 2.
+TEST(Renderer, OneBounceLightsAGrazedWallWithHalfTheFloorsRadiance) {
+  scene::Scene s = wall_scene(2.0f);
+  s.materials[0].diffuse = Eigen::Vector3f(0.8f, 0.8f, 0.8f);
+  s.meshes.push_back(scene::make_plane(200, 200, 1));
+  s.materials.push_back(material({0.5f, 0.25f, 0.5f}));
+  s.instances.push_back(place(1, 1, {0, -1, 0}, 8, 4));  // below the camera's view of the wall
+  s.sun.enabled = true;
+  s.sun.direction = Eigen::Vector3f(0, 1, 0);
+  s.sun.color = Eigen::Vector3f::Ones();
+  s.sun.intensity = 1.0f;
+  s.sun.angular_radius_deg = 0;
+  const FrameBuffers direct = Renderer(s).render({.spp = 4});
+  const FrameBuffers bounced = Renderer(s).render({.spp = 4, .bounce = true});
+  ASSERT_EQ(cv::countNonZero(bounced.instance == 7), 64 * 48);  // only the wall in view
+  EXPECT_EQ(cv::norm(direct.linear, cv::NORM_INF), 0.0);
+  const cv::Scalar top = cv::mean(bounced.linear(cv::Rect(0, 0, 64, 24)));
+  const cv::Scalar bottom = cv::mean(bounced.linear(cv::Rect(0, 24, 64, 24)));
+  std::printf("[ NOTE ] wall: top %.4f %.4f %.4f, bottom %.4f %.4f %.4f\n", top[0], top[1], top[2],
+              bottom[0], bottom[1], bottom[2]);
+  for (int c = 0; c < 3; ++c) {
+    const double expected = 0.8 * s.materials[1].diffuse[c] / 2;
+    EXPECT_NEAR(top[c], expected, 0.05 * expected) << "channel " << c;
+    EXPECT_NEAR(bottom[c], expected, 0.05 * expected) << "channel " << c;
+  }
+}
+
 TEST(Renderer, SolarSunBelowTheHorizonGivesNoLight) {
   scene::Scene s = wall_scene(2.0f);
   s.sun.enabled = true;
@@ -162,16 +191,18 @@ TEST(Renderer, SolarSunBelowTheHorizonGivesNoLight) {
 TEST(Renderer, SameImageWhateverTheThreadCount) {
   const scene::Scene s = testing::shadow();
   FrameBuffers one, two;
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
-    one = Renderer(s).render({.spp = 3});
+  for (const bool bounce : {false, true}) {
+    {
+      tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+      one = Renderer(s).render({.spp = 3, .bounce = bounce});
+    }
+    {
+      tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
+      two = Renderer(s).render({.spp = 3, .bounce = bounce});
+    }
+    EXPECT_EQ(cv::norm(one.linear, two.linear, cv::NORM_INF), 0.0) << "bounce " << bounce;
+    EXPECT_EQ(cv::norm(one.rgb, two.rgb, cv::NORM_INF), 0.0) << "bounce " << bounce;
   }
-  {
-    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 2);
-    two = Renderer(s).render({.spp = 3});
-  }
-  EXPECT_EQ(cv::norm(one.linear, two.linear, cv::NORM_INF), 0.0);
-  EXPECT_EQ(cv::norm(one.rgb, two.rgb, cv::NORM_INF), 0.0);
   // And a different seed gives a different (noisy) image.
   scene::Scene other = s;
   other.seed = 99;

@@ -220,6 +220,9 @@ void Renderer::TileIntegrator::store_ground_truth(FrameBuffers& out) const {
 void Renderer::TileIntegrator::shade_packet(int p, int s) {
   ShadowRays shadows;
   for (RTCRay8& packet : shadows.rays) switch_off_lanes(packet);
+  alignas(32) RTCRayHit8 bounce;
+  PacketMask bounce_valid{};
+  if (options_.bounce) switch_off_lanes(bounce.ray);
   for (int k = 0; k < 8; ++k) {
     if (!valid_[p][k]) continue;
     const int li = p * 8 + k;
@@ -245,27 +248,93 @@ void Renderer::TileIntegrator::shade_packet(int p, int s) {
     }
     shadows.into_pixel[k] = reuse;
     sample_lights(p, k, s, at, shadows);
+    if (options_.bounce) {
+      RandomStream& rng = *streams_[li];
+      const float r1 = static_cast<float>(rng.uniform01()),
+                  r2 = static_cast<float>(rng.uniform01());
+      Eigen::Vector3f bu, bv;
+      basis(at.normal, bu, bv);
+      const float rad = std::sqrt(r1), ph = 2 * kPi * r2;
+      const Eigen::Vector3f l = rad * std::cos(ph) * bu + rad * std::sin(ph) * bv +
+                                std::sqrt(std::max(0.0f, 1 - r1)) * at.normal;  // unit
+      if (at.geometric_normal.dot(l) > 0) {
+        const float eps = 1e-4f * (1.0f + at.position.cwiseAbs().maxCoeff());
+        set_ray(bounce.ray, k, at.position + eps * at.geometric_normal, l, kInf);
+        bounce.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+        bounce_valid[k] = -1;
+      }
+    }
   }
   resolve_shadows(p, shadows);
+  if (bounce_valid.count() > 0) add_bounce(p, bounce, bounce_valid, shadows);
+}
+
+void Renderer::TileIntegrator::add_bounce(int p, RTCRayHit8& rays, PacketMask valid,
+                                          const ShadowRays& primary) {
+  const auto t0 = Clock::now();
+  rtcIntersect8(valid.data(), r_.rtc_scene_, &incoherent_, &rays);
+  trace_ns_ += std::chrono::duration<double, std::nano>(Clock::now() - t0).count();
+  ray_count_ += valid.count();
+  ShadowRays second;
+  for (RTCRay8& packet : second.rays) switch_off_lanes(packet);
+  for (int k = 0; k < 8; ++k) {
+    if (!valid[k] || rays.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) continue;
+    const Eigen::Vector3f origin(rays.ray.org_x[k], rays.ray.org_y[k], rays.ray.org_z[k]);
+    const Eigen::Vector3f dir(rays.ray.dir_x[k], rays.ray.dir_y[k], rays.ray.dir_z[k]);
+    const SurfacePoint at = surface_of(rays, k, origin, dir, 0.0f);
+    second.albedos[k] = at.albedo;
+    RandomStream& rng = *streams_[p * 8 + k];
+    const float eps = 1e-4f * (1.0f + at.position.cwiseAbs().maxCoeff());
+    const Eigen::Vector3f from = at.position + eps * at.geometric_normal;
+    const auto pair = [&] {
+      const float a = static_cast<float>(rng.uniform01());
+      return std::array<float, 2>{a, static_cast<float>(rng.uniform01())};
+    };
+    if (sun_on_) sample_sun(k, pair(), from, at, dir, second);
+    if (!r_.lights_on_.empty()) sample_point_light(k, pair(), rng, from, at, dir, second);
+  }
+  for (int q = 0; q < 2; ++q) {
+    const int n = second.valid[q].count();
+    if (n == 0) continue;
+    rtcOccluded8(second.valid[q].data(), r_.rtc_scene_, &incoherent_, &second.rays[q]);
+    ray_count_ += n;
+    for (int k = 0; k < 8; ++k) {
+      if (!second.valid[q][k] || second.rays[q].tfar[k] < 0.0f) continue;
+      // The bounce surface's radiance toward the sample; a cosine-weighted direction makes it
+      // the estimate of the light arriving there, in the units of the direct light.
+      const Eigen::Vector3f arriving = second.albedos[k].cwiseProduct(second.to_diffuse[q][k]);
+      const int li = p * 8 + k;
+      if (primary.into_pixel[k]) {
+        diffuse_[li] += arriving;
+      } else {
+        own_[li] += primary.albedos[k].cwiseProduct(arriving);
+      }
+    }
+  }
 }
 
 Renderer::TileIntegrator::SurfacePoint Renderer::TileIntegrator::surface_at(int p, int k) const {
   const PrimarySample& ps = prim_[p * 8 + k];
-  const RTCRayHit8& rh = hits_[p];
+  return surface_of(hits_[p], k, ps.origin, ps.dir, pixel_angle_);
+}
+
+Renderer::TileIntegrator::SurfacePoint Renderer::TileIntegrator::surface_of(
+    const RTCRayHit8& rh, int k, const Eigen::Vector3f& origin, const Eigen::Vector3f& dir,
+    float pixel_angle) const {
   SurfacePoint at;
   at.surface = static_cast<int>(rh.hit.geomID[k]);
   const Geometry& g = r_.geometries_[at.surface];
   const auto& tri = g.triangles[rh.hit.primID[k]];
   const float u = rh.hit.u[k], v = rh.hit.v[k], bw = 1 - u - v;
-  at.position = ps.origin + rh.ray.tfar[k] * ps.dir;
+  at.position = origin + rh.ray.tfar[k] * dir;
   Eigen::Vector3f ng = Eigen::Vector3f(rh.hit.Ng_x[k], rh.hit.Ng_y[k], rh.hit.Ng_z[k]).normalized();
-  if (ng.dot(ps.dir) > 0) ng = -ng;
+  if (ng.dot(dir) > 0) ng = -ng;
   Eigen::Vector3f n = ng;
   if (!g.normals.empty()) {
     const Eigen::Vector3f sn =
         bw * g.normals[tri[0]] + u * g.normals[tri[1]] + v * g.normals[tri[2]];
     if (sn.squaredNorm() > 1e-12f) n = sn.normalized();
-    if (n.dot(ps.dir) > 0) n = -n;
+    if (n.dot(dir) > 0) n = -n;
   }
   at.geometric_normal = ng;
   at.normal = n;
@@ -273,8 +342,8 @@ Renderer::TileIntegrator::SurfacePoint Renderer::TileIntegrator::surface_at(int 
   if (!g.uvs.empty()) uv = bw * g.uvs[tri[0]] + u * g.uvs[tri[1]] + v * g.uvs[tri[2]];
   at.material = &r_.scene_.materials[g.material];
   const TextureSampler& texture = r_.material_textures_[g.material];
-  const float footprint = texture.filters_detail() && !g.uvs.empty()
-                              ? uv_footprint(g, tri, rh.ray.tfar[k], n.dot(ps.dir), pixel_angle_)
+  const float footprint = texture.filters_detail() && !g.uvs.empty() && pixel_angle > 0
+                              ? uv_footprint(g, tri, rh.ray.tfar[k], n.dot(dir), pixel_angle)
                               : 0.0f;
   Eigen::Vector3f albedo = at.material->diffuse.cwiseProduct(texture.at(uv.x(), uv.y(), footprint));
   if (at.material->hue_offset_deg != 0.0f)
@@ -294,8 +363,10 @@ void Renderer::TileIntegrator::sample_lights(int p, int k, int s, const SurfaceP
   const float eps = 1e-4f * (1.0f + at.position.cwiseAbs().maxCoeff());
   const Eigen::Vector3f origin = at.position + eps * at.geometric_normal;
   const Eigen::Vector3f& view = prim_[li].dir;
-  if (sun_on_) sample_sun(k, px, py, origin, at, view, shadows);
-  if (!r_.lights_on_.empty()) sample_point_light(k, px, py, rng, origin, at, view, shadows);
+  if (sun_on_) sample_sun(k, strata_block_->point(px, py, 0), origin, at, view, shadows);
+  if (!r_.lights_on_.empty()) {
+    sample_point_light(k, strata_block_->point(px, py, 1), rng, origin, at, view, shadows);
+  }
   if (env_on_) sample_environment(k, px, py, rng, origin, at, shadows);
 }
 
@@ -316,10 +387,10 @@ void Renderer::TileIntegrator::add_light(ShadowRays& shadows, int q, int k,
 }
 
 // A uniform direction in the sun's cone (soft shadows).
-void Renderer::TileIntegrator::sample_sun(int k, int px, int py, const Eigen::Vector3f& origin,
-                                          const SurfacePoint& at, const Eigen::Vector3f& view,
-                                          ShadowRays& shadows) const {
-  const auto [r1, r2] = strata_block_->point(px, py, 0);
+void Renderer::TileIntegrator::sample_sun(int k, std::array<float, 2> u,
+                                          const Eigen::Vector3f& origin, const SurfacePoint& at,
+                                          const Eigen::Vector3f& view, ShadowRays& shadows) const {
+  const auto [r1, r2] = u;
   const float ct = 1.0f - r1 * (1.0f - sun_cos_max_);
   const float st = std::sqrt(std::max(0.0f, 1 - ct * ct)), ph = 2 * kPi * r2;
   // Unit by construction (orthonormal basis, ct² + st² = 1): no normalisation.
@@ -337,13 +408,13 @@ void Renderer::TileIntegrator::sample_sun(int k, int px, int py, const Eigen::Ve
 // unshadowed contribution here (power / distance² × a floored cosine, so every light keeps a
 // chance and the estimate stays unbiased); far and back-facing lights then rarely waste the
 // sample, which removes most of the speckle. More lights: by power.
-void Renderer::TileIntegrator::sample_point_light(int k, int px, int py, RandomStream& rng,
+void Renderer::TileIntegrator::sample_point_light(int k, std::array<float, 2> u, RandomStream& rng,
                                                   const Eigen::Vector3f& origin,
                                                   const SurfacePoint& at,
                                                   const Eigen::Vector3f& view,
                                                   ShadowRays& shadows) const {
   const Eigen::Vector3f& n = at.normal;
-  const auto [pick, light_z] = strata_block_->point(px, py, 1);
+  const auto [pick, light_z] = u;
   const int on = static_cast<int>(r_.lights_on_.size());
   int jj = 0;
   float prob = 0;
