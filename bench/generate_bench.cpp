@@ -7,7 +7,9 @@
 //   BM_GenerateRealistic/{0,1,2}: 48 frames of the realistic scenario side by side — 0 before
 //     the photo-real changes (its photo-real block cut: coloured lights, paper textures, hue
 //     rotation), 1 configs/boost-realistic.yaml (black-body lights, interior rooms), 2
-//     configs/boost-realistic-train.yaml (also the phone camera); counter ms_per_image.
+//     configs/boost-realistic-train.yaml (also the phone camera), 3 boost-realistic.yaml with
+//     one diffuse bounce (image.bounce); counters ms_per_image and, per stage, the thread time
+//     per frame (draft_ms, build_ms, bvh_ms, render_ms, label_ms, write_ms).
 // Run: build/release/bench/bench_generate
 
 #include <benchmark/benchmark.h>
@@ -86,8 +88,10 @@ wheelpose::generate::Scenario realistic_scenario(std::int64_t which) {
   text << std::ifstream(file).rdbuf();
   std::string yaml = text.str();
   if (which == 0) yaml = yaml.substr(0, yaml.find("  # Photo-real light"));
-  return wheelpose::generate::Scenario::from_config(
+  auto scenario = wheelpose::generate::Scenario::from_config(
       wheelpose::ConfigNode::load_string(yaml, file.string()));
+  if (which == 3) scenario.bounce = true;
+  return scenario;
 }
 
 void BM_GenerateRealistic(benchmark::State& state) {
@@ -100,6 +104,13 @@ void BM_GenerateRealistic(benchmark::State& state) {
     state.SetIterationTime(summary.seconds);
     state.counters["ms_per_image"] =
         1000.0 * summary.seconds / static_cast<double>(summary.rendered);
+    // Per stage, thread time per frame (the stages of 2 threads add up to ~2 × ms_per_image).
+    state.counters["draft_ms"] = summary.stage_ms.draft;
+    state.counters["build_ms"] = summary.stage_ms.build;
+    state.counters["bvh_ms"] = summary.stage_ms.bvh;
+    state.counters["render_ms"] = summary.stage_ms.render;
+    state.counters["label_ms"] = summary.stage_ms.label;
+    state.counters["write_ms"] = summary.stage_ms.write;
     fs::remove_all(o.out);
   }
 }
@@ -107,6 +118,7 @@ BENCHMARK(BM_GenerateRealistic)
     ->Arg(0)
     ->Arg(1)
     ->Arg(2)
+    ->Arg(3)
     ->Iterations(1)
     ->UseManualTime()
     ->Unit(benchmark::kSecond);

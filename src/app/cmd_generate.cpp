@@ -12,9 +12,9 @@
 #include <string>
 
 #include "core/error.h"
-#include "progress.h"
 #include "generate/runner.h"
 #include "generate/scenario.h"
+#include "progress.h"
 
 namespace wheelpose::app {
 namespace {
@@ -77,6 +77,13 @@ void run(const GenerateCommandOptions& o) {
       s.first_frame, s.end_frame - 1, s.rendered, s.resumed, s.seconds,
       s.seconds > 0 ? static_cast<double>(s.rendered) / s.seconds : 0.0, s.annotations,
       s.dropped_people, scenario.min_visible_pixels, o.out);
+  if (s.rendered > 0) {
+    const generate::RunSummary::StageMs& ms = s.stage_ms;
+    spdlog::info(
+        "generate: thread ms per frame: draft {:.1f}, build {:.1f}, ray-tracing structure {:.1f}, "
+        "render {:.1f}, label {:.1f}, write {:.1f}",
+        ms.draft, ms.build, ms.bvh, ms.render, ms.label, ms.write);
+  }
 }
 
 }  // namespace
@@ -85,8 +92,9 @@ void attach_generate(CLI::App& parent) {
   auto o = std::make_shared<GenerateCommandOptions>();
   CLI::App* cmd = parent.add_subcommand(
       "generate", "Render domain-randomized scenes of wheelchair users with COCO keypoint labels");
-  cmd->add_option("--config", o->config, "Scenario YAML (default: the paper preset, "
-                                         "configs/wheelpose-paper.yaml)");
+  cmd->add_option("--config", o->config,
+                  "Scenario YAML (default: the paper preset, "
+                  "configs/wheelpose-paper.yaml)");
   cmd->add_option("--out", o->out, "Output folder (images/, labels/, annotations.json)");
   cmd->add_option("--frames", o->frames, "Frames in the whole dataset (all shards)")
       ->check(CLI::Range(std::int64_t{1}, std::int64_t{1} << 40));

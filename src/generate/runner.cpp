@@ -5,6 +5,7 @@
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -198,14 +199,27 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
   if (progress) progress(done, total);
 
   const LabelOptions label_options{scenario.min_visible_pixels, scenario.segmentation};
+  enum Stage { kDraft, kBuild, kBvh, kRender, kLabel, kWrite, kStages };
+  std::array<std::atomic<double>, kStages> stage_ms{};
   tbb::parallel_for(std::size_t{0}, pending.size(), std::size_t{1}, [&](std::size_t i) {
+    auto stage_start = std::chrono::steady_clock::now();
+    const auto stage_done = [&](Stage stage) {
+      const auto now = std::chrono::steady_clock::now();
+      stage_ms[stage] += std::chrono::duration<double, std::milli>(now - stage_start).count();
+      stage_start = now;
+    };
     const std::int64_t frame = pending[i];
     const FrameDraft draft = draft_frame(scenario, options.seed, frame, context);
+    stage_done(kDraft);
     const BuiltFrame built = build_frame(draft, body_data, clips, scenario.anchors, &furniture);
+    stage_done(kBuild);
     render::Renderer renderer(built.scene);
+    stage_done(kBvh);
     const render::FrameBuffers buffers = renderer.render(scenario.render_options());
+    stage_done(kRender);
     FrameLabels labels = label_frame(built, buffers, label_options);
     dropped += labels.dropped_people;
+    stage_done(kLabel);
 
     const std::string stem = frame_stem(frame);
     const std::string file_name = stem + "." + options.format;
@@ -236,6 +250,7 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
     fragment["annotations"] = std::move(labels.annotations);
     // The fragment is written last: its presence means the frame is complete.
     write_file_atomic(out / "labels" / (stem + ".json"), fragment.dump() + "\n");
+    stage_done(kWrite);
     const std::int64_t now = ++done;
     if (progress) {
       std::lock_guard<std::mutex> lock(progress_mutex);
@@ -244,6 +259,10 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
   });
   summary.rendered = static_cast<std::int64_t>(pending.size());
   summary.dropped_people = dropped;
+  const double per_frame = 1.0 / static_cast<double>(std::max<std::size_t>(1, pending.size()));
+  summary.stage_ms = {stage_ms[kDraft] * per_frame, stage_ms[kBuild] * per_frame,
+                      stage_ms[kBvh] * per_frame,   stage_ms[kRender] * per_frame,
+                      stage_ms[kLabel] * per_frame, stage_ms[kWrite] * per_frame};
 
   json info = {{"description", "WheelPose synthetic wheelchair users"},
                {"version", "1"},

@@ -41,6 +41,13 @@ struct RunSummary {
   std::int64_t rendered = 0, resumed = 0;       // rendered now, found done
   std::int64_t images = 0, annotations = 0, dropped_people = 0;
   double seconds = 0;
+  // Milliseconds per rendered frame in each stage, summed over the threads that ran them (so
+  // with T threads busy they add up to about T × the wall time per frame): drawing the
+  // randomizers, building the scene (people, wheelchairs, room), building the ray-tracing
+  // structure, rendering, labelling, and encoding and writing the files.
+  struct StageMs {
+    double draft = 0, build = 0, bvh = 0, render = 0, label = 0, write = 0;
+  } stage_ms;
 };
 
 // Progress callback: frames done (incl. resumed) of the shard's total.

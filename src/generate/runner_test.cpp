@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <string>
 
+#include "core/config.h"
 #include "core/error.h"
 
 namespace wheelpose::generate {
@@ -23,6 +25,32 @@ TEST(Runner, ShardsPartitionTheFramesInOrder) {
       EXPECT_EQ(next, frames);
     }
   }
+}
+
+// The summary times every stage of a frame; with the threads' times summed, the stages of a
+// frame cannot take longer than the threads had.
+TEST(Runner, StageTimesArePositiveAndFitTheWallTime) {
+  namespace fs = std::filesystem;
+  const fs::path assets = fs::path(WHEELPOSE_SHARED_DIR) / "assets";
+  if (!fs::exists(assets)) GTEST_SKIP() << "shared assets missing";
+  const Scenario scenario = Scenario::from_config(
+      ConfigNode::load_string("image: {width: 96, height: 64, spp: 1}\n", "tiny.yaml"));
+  RunOptions o;
+  o.out = fs::temp_directory_path() / "wheelpose_runner_stages";
+  fs::remove_all(o.out);
+  o.frames = 3;
+  o.seed = 5;
+  o.threads = 2;
+  o.assets = assets;
+  const RunSummary summary = run_generate(scenario, o);
+  ASSERT_EQ(summary.rendered, 3);
+  const RunSummary::StageMs& ms = summary.stage_ms;
+  for (const double stage : {ms.draft, ms.build, ms.bvh, ms.render, ms.label, ms.write}) {
+    EXPECT_GT(stage, 0.0);
+  }
+  const double per_frame_sum = ms.draft + ms.build + ms.bvh + ms.render + ms.label + ms.write;
+  EXPECT_LE(per_frame_sum * 3, 2 * 1000 * summary.seconds);
+  fs::remove_all(o.out);
 }
 
 TEST(Runner, OptionsCheckNamesTheBadOption) {
