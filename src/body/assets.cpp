@@ -1,6 +1,5 @@
 #include "body/assets.h"
 
-#include <unzip.h>
 #include <zlib.h>
 
 #include <cstdlib>
@@ -9,6 +8,7 @@
 #include <sstream>
 #include <vector>
 
+#include "core/archive_member.h"
 #include "core/error.h"
 
 namespace wheelpose::body {
@@ -92,24 +92,7 @@ std::string read_asset(const fs::path& path) {
 
 std::string read_zip_entry(const fs::path& archive, const std::string& entry) {
   require_asset(archive);
-  unzFile zip = unzOpen(archive.c_str());
-  if (zip == nullptr) throw Error(archive.string() + ": not a readable zip archive");
-  auto close = std::unique_ptr<void, int (*)(unzFile)>(zip, unzClose);
-  if (unzLocateFile(zip, entry.c_str(), 1) != UNZ_OK) {
-    throw Error(archive.string() + ": entry '" + entry + "' missing");
-  }
-  unz_file_info info{};
-  if (unzGetCurrentFileInfo(zip, &info, nullptr, 0, nullptr, 0, nullptr, 0) != UNZ_OK ||
-      unzOpenCurrentFile(zip) != UNZ_OK) {
-    throw Error(archive.string() + ": entry '" + entry + "' unreadable");
-  }
-  std::string out(info.uncompressed_size, '\0');
-  const int n = unzReadCurrentFile(zip, out.data(), static_cast<unsigned>(out.size()));
-  const int crc = unzCloseCurrentFile(zip);
-  if (n < 0 || static_cast<std::size_t>(n) != out.size() || crc != UNZ_OK) {
-    throw Error(archive.string() + ": entry '" + entry + "' corrupt");
-  }
-  return out;
+  return read_archive_member(archive, entry);
 }
 
 fs::path sweethome3d_archive() {

@@ -3,6 +3,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <system_error>
 
+#include "core/archive_member.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 
@@ -64,11 +65,18 @@ std::string encoded_image_defect(std::string_view bytes) {
 }
 
 cv::Mat read_image(const fs::path& path, int flags) {
-  std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (!fs::exists(status)) throw Error(path.string() + ": no such image file");
-  if (!fs::is_regular_file(status)) throw Error(path.string() + ": not an image file (a folder?)");
-  const std::string bytes = read_file(path);
+  std::string bytes;
+  if (const std::optional<ArchiveMember> member = archive_member(path.string())) {
+    bytes = read_archive_member(member->archive, member->entry);
+  } else {
+    std::error_code ec;
+    const fs::file_status status = fs::status(path, ec);
+    if (!fs::exists(status)) throw Error(path.string() + ": no such image file");
+    if (!fs::is_regular_file(status)) {
+      throw Error(path.string() + ": not an image file (a folder?)");
+    }
+    bytes = read_file(path);
+  }
   if (bytes.empty()) throw Error(path.string() + ": empty file, not an image");
   if (const std::string defect = encoded_image_defect(bytes); !defect.empty()) {
     throw Error(path.string() + ": " + defect);

@@ -15,8 +15,9 @@ namespace wheelpose {
 // its end-of-image marker, a PNG its IEND chunk. Other formats are left to the decoder.
 std::string encoded_image_defect(std::string_view bytes);
 
-// Decodes `path` with cv::imdecode `flags` (e.g. cv::IMREAD_COLOR, BGR order). Throws Error
-// (exit 2) naming the file when it is missing, not a file, truncated, or does not decode.
+// Decodes `path` with cv::imdecode `flags` (e.g. cv::IMREAD_COLOR, BGR order); an
+// "ARCHIVE!/ENTRY" path reads the entry of a zip (core/archive_member.h). Throws Error (exit 2)
+// naming the file when it is missing, not a file, truncated, or does not decode.
 cv::Mat read_image(const std::filesystem::path& path, int flags);
 
 }  // namespace wheelpose

@@ -3,6 +3,7 @@
 #include <array>
 
 #include "core/srgb.h"
+#include "generate/furniture.h"
 
 namespace wheelpose::generate {
 namespace {
@@ -106,7 +107,29 @@ scene::Material garment_material(RandomStream& rng, const std::string& name, Gar
   }
   m.texture.scale = static_cast<float>(rng.uniform(4, 40));
   m.texture.seed = rng.next_u64();
+  // Half the plain weaves are a photographed fabric's weave and folds in the drawn colour,
+  // from the draws already made, so every other garment keeps its look.
+  if (u < kPhotoFabricShare) {
+    const std::vector<std::string>& photos = fabric_photos();
+    m.diffuse = base;
+    m.texture.kind = scene::TextureKind::kImageDetail;
+    m.texture.path = photos[m.texture.seed % photos.size()];
+    m.texture.scale /= 8;  // 0.5–5 repeats over the garment's UV square
+  }
   return m;
+}
+
+const std::vector<std::string>& fabric_photos() {
+  static const std::vector<std::string> photos = [] {
+    const std::string archive = FurnitureCatalog::default_archive().string() + "!/blendswap-cc-0/";
+    std::vector<std::string> out;
+    for (const char* entry : {"couch2/Fabric_011_COLOR.jpg", "couch/Plain001.jpg",
+                              "chairWithCushion/Denim_001_COLOR.jpg", "chair/tecido.jpg"}) {
+      out.push_back(archive + entry);
+    }
+    return out;
+  }();
+  return photos;
 }
 
 }  // namespace wheelpose::generate

@@ -2,6 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
+#include <opencv2/core.hpp>
+
+#include "generate/furniture.h"
+#include "render/texture.h"
+
 namespace wheelpose::generate {
 namespace {
 
@@ -34,7 +41,8 @@ TEST(GarmentPalette, ColoursComeFromThePaletteFourFifthsMuted) {
     EXPECT_TRUE(m.texture.kind == scene::TextureKind::kFabric ||
                 m.texture.kind == scene::TextureKind::kNoise ||
                 m.texture.kind == scene::TextureKind::kStripes ||
-                m.texture.kind == scene::TextureKind::kChecker);
+                m.texture.kind == scene::TextureKind::kChecker ||
+                m.texture.kind == scene::TextureKind::kImageDetail);
     EXPECT_LE(m.texture.color_a.maxCoeff(), 0.95f);
   }
   EXPECT_NEAR(saturated_count / static_cast<double>(n), 0.2, 0.03);
@@ -42,15 +50,40 @@ TEST(GarmentPalette, ColoursComeFromThePaletteFourFifthsMuted) {
 
 TEST(GarmentPalette, PlainWeavesAreMostAndTheSeedDecides) {
   RandomStream a(9, {"garments"}), b(9, {"garments"});
-  int plain = 0;
+  int plain = 0, photo = 0;
   for (int i = 0; i < 1000; ++i) {
     const scene::Material x = garment_material(a, "bottom", GarmentColours::kPalette);
     const scene::Material y = garment_material(b, "bottom", GarmentColours::kPalette);
     EXPECT_EQ(x.texture.color_a, y.texture.color_a);
     EXPECT_EQ(x.texture.seed, y.texture.seed);
+    EXPECT_EQ(x.texture.path, y.texture.path);
     plain += x.texture.kind == scene::TextureKind::kFabric;
+    if (x.texture.kind == scene::TextureKind::kImageDetail) {
+      ++photo;
+      // The photo's detail carries the garment's colour; the photo is one of the list.
+      EXPECT_EQ(x.diffuse, x.texture.color_a);
+      EXPECT_NE(std::find(fabric_photos().begin(), fabric_photos().end(), x.texture.path),
+                fabric_photos().end());
+    }
   }
-  EXPECT_NEAR(plain / 1000.0, 0.6, 0.05);
+  EXPECT_NEAR((plain + photo) / 1000.0, 0.6, 0.05);
+  EXPECT_NEAR(photo / 1000.0, kPhotoFabricShare, 0.05);
+}
+
+// Every fabric photo is in the installed package and keeps a weave: its detail averages 1 and
+// varies (a flat photo would add nothing).
+TEST(GarmentPalette, FabricPhotosLoadAsDetailAveragingOne) {
+  if (!std::filesystem::exists(FurnitureCatalog::default_archive())) {
+    GTEST_SKIP() << "sweethome3d-furniture missing: run scripts/setup.sh";
+  }
+  for (const std::string& path : fabric_photos()) {
+    const cv::Mat detail = render::load_detail_image(path, "fabric");
+    EXPECT_LE(std::max(detail.cols, detail.rows), render::kDetailSize) << path;
+    cv::Scalar mean, deviation;
+    cv::meanStdDev(detail, mean, deviation);
+    EXPECT_NEAR(mean[0], 1.0, 1e-3) << path;
+    EXPECT_GT(deviation[0], 0.03) << path;
+  }
 }
 
 // The black swatch (sRGB 0x1c1c1e) in linear light: 28/255 decoded by the sRGB curve.

@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
+#include <mutex>
 #include <numbers>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/archive_member.h"
 #include "core/error.h"
 #include "core/image_read.h"
 #include "core/random.h"
@@ -71,8 +74,9 @@ float fract(float x) { return x - std::floor(x); }
 }  // namespace
 
 cv::Mat load_linear_image(const std::string& path, const std::string& what) {
-  // Checked first so OpenCV does not print its own warning for a missing file.
-  if (!std::filesystem::is_regular_file(path))
+  // Checked first so OpenCV does not print its own warning for a missing file (an archive's
+  // entry: read_image names what is missing).
+  if (!archive_member(path) && !std::filesystem::is_regular_file(path))
     throw Error(what + ": image '" + path + "' not found");
   cv::Mat raw;
   try {
@@ -91,6 +95,31 @@ cv::Mat load_linear_image(const std::string& path, const std::string& what) {
     for (int k = 0; k < 3; ++k) p[k] = srgb_to_linear(p[k]);
   });
   return out;
+}
+
+cv::Mat load_detail_image(const std::string& path, const std::string& what) {
+  // Decoded once per process: every frame's garments draw from the same few photos.
+  static std::mutex mutex;
+  static std::map<std::string, cv::Mat> cache;
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (const auto it = cache.find(path); it != cache.end()) return it->second;
+  }
+  const cv::Mat rgb = load_linear_image(path, what);
+  cv::Mat luminance;
+  cv::transform(rgb, luminance, cv::Matx13f(0.2126f, 0.7152f, 0.0722f));
+  const int longer = std::max(luminance.cols, luminance.rows);
+  if (longer > kDetailSize) {
+    const double f = static_cast<double>(kDetailSize) / longer;
+    cv::resize(luminance, luminance, cv::Size(), f, f, cv::INTER_AREA);
+  }
+  const double mean = cv::mean(luminance)[0];
+  if (!(mean > 0)) throw Error(what + ": image '" + path + "' is black: no detail to keep");
+  luminance *= 1.0 / mean;
+  cv::Mat detail;
+  cv::merge(std::vector<cv::Mat>{luminance, luminance, luminance}, detail);
+  const std::lock_guard<std::mutex> lock(mutex);
+  return cache.emplace(path, detail).first->second;
 }
 
 Eigen::Vector3f sample_bilinear(const cv::Mat& image, float u, float v) {
@@ -144,6 +173,7 @@ float procedural_pattern(const scene::Texture& t, float u, float v, float footpr
                                     4.0f * t.turbulence * fbm(t.seed, u, v, footprint));
     case TextureKind::kNone:
     case TextureKind::kImage:
+    case TextureKind::kImageDetail:
       break;
   }
   return 0.0f;
@@ -169,6 +199,9 @@ TextureSampler::TextureSampler(const scene::Texture& texture, const std::string&
                                const std::string& what)
     : texture_(texture) {
   if (texture.kind == scene::TextureKind::kImage) image_ = load_linear_image(resolved_path, what);
+  if (texture.kind == scene::TextureKind::kImageDetail) {
+    image_ = load_detail_image(resolved_path, what);
+  }
 }
 
 bool TextureSampler::filters_detail() const {
@@ -180,6 +213,9 @@ bool TextureSampler::filters_detail() const {
 Eigen::Vector3f TextureSampler::at(float u, float v, float footprint) const {
   if (texture_.kind == scene::TextureKind::kNone) return Eigen::Vector3f::Ones();
   if (texture_.kind == scene::TextureKind::kImage) return sample_bilinear(image_, u, 1.0f - v);
+  if (texture_.kind == scene::TextureKind::kImageDetail) {
+    return sample_bilinear(image_, u * texture_.scale, 1.0f - v * texture_.scale);
+  }
   const float t = procedural_pattern(texture_, u * texture_.scale, v * texture_.scale,
                                      footprint * texture_.scale);
   return texture_.color_a + t * (texture_.color_b - texture_.color_a);

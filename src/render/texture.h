@@ -15,6 +15,13 @@ namespace wheelpose::render {
 // (e.g. "/materials/2/texture/path"); an unreadable or zero-size image throws Error.
 cv::Mat load_linear_image(const std::string& path, const std::string& what);
 
+// An image's brightness detail for TextureKind::kImageDetail: its luminance, shrunk to at most
+// kDetailSize pixels a side (a photo's weave finer than that would only alias on a garment a
+// few hundred pixels tall), divided by its mean so it averages 1; the same in all three
+// channels. Decoded once per path per process.
+inline constexpr int kDetailSize = 128;
+cv::Mat load_detail_image(const std::string& path, const std::string& what);
+
 // Bilinear lookup with wrap-around; u to the right, v downward, both in image widths/heights.
 Eigen::Vector3f sample_bilinear(const cv::Mat& image, float u, float v);
 

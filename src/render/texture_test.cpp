@@ -124,5 +124,28 @@ TEST(Texture, ImagesAreDecodedToLinearAndBadFilesAreErrors) {
   std::filesystem::remove_all(dir);
 }
 
+// An image detail texture: the photo's luminance over its mean (1 on average, the same in every
+// channel), repeated `scale` times per uv unit, so the material colour sets the hue.
+TEST(Texture, ImageDetailIsTheLuminanceOverItsMeanRepeated) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("wheelpose_detail_test_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  cv::Mat bgr(2, 2, CV_8UC3, cv::Scalar(255, 255, 255));  // white, one black texel
+  bgr.at<cv::Vec3b>(0, 0) = cv::Vec3b(0, 0, 0);
+  ASSERT_TRUE(cv::imwrite((dir / "weave.png").string(), bgr));
+  scene::Texture t;
+  t.kind = scene::TextureKind::kImageDetail;
+  t.scale = 2;
+  const TextureSampler sampler(t, (dir / "weave.png").string(), "/x");
+  // Luminance 0 and three 1s: mean 0.75, so 0 and 4/3.
+  EXPECT_NEAR(sampler.image().at<cv::Vec3f>(0, 0)[1], 0.0f, 1e-6f);
+  EXPECT_NEAR(sampler.image().at<cv::Vec3f>(1, 1)[0], 4.0f / 3.0f, 1e-5f);
+  // The black texel (top left of the image) sits at v just below 1 and again half a uv unit on.
+  EXPECT_NEAR(sampler.at(0.125f, 0.875f).x(), 0.0f, 1e-5f);
+  EXPECT_NEAR(sampler.at(0.625f, 0.375f).x(), 0.0f, 1e-5f);
+  EXPECT_NEAR(sampler.at(0.375f, 0.875f).y(), 4.0f / 3.0f, 1e-5f);
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace wheelpose::render

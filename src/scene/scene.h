@@ -34,13 +34,28 @@ struct Mesh {
   bool operator==(const Mesh&) const = default;
 };
 
-enum class TextureKind { kNone, kImage, kNoise, kStripes, kChecker, kFabric, kWood, kMarble };
+enum class TextureKind {
+  kNone,
+  kImage,
+  kNoise,
+  kStripes,
+  kChecker,
+  kFabric,
+  kWood,
+  kMarble,
+  kImageDetail
+};
 
 // A colour pattern over UV space. Procedural kinds blend `color_a` (t = 0) and `color_b`
-// (t = 1) with a pattern t(uv · scale); image textures multiply the material colour.
+// (t = 1) with a pattern t(uv · scale); image textures multiply the material colour. An image
+// detail texture keeps only a photo's brightness pattern (its luminance over its mean, so 1 on
+// average), repeated `scale` times per UV unit, to multiply the material colour: a fabric
+// photo's weave and folds in any garment colour.
 struct Texture {
   TextureKind kind = TextureKind::kNone;
-  std::string path;  // kImage: any file OpenCV reads, relative paths from the scene file
+  // kImage, kImageDetail: any file OpenCV reads (relative paths from the scene file), or
+  // "ARCHIVE!/ENTRY" for a file inside a zip (core/archive_member.h).
+  std::string path;
   Eigen::Vector3f color_a = Eigen::Vector3f(0.8f, 0.8f, 0.8f);
   Eigen::Vector3f color_b = Eigen::Vector3f(0.2f, 0.2f, 0.2f);
   float scale = 8.0f;       // pattern repeats per UV unit
@@ -48,6 +63,10 @@ struct Texture {
   std::uint64_t seed = 0;   // noise lattice seed
   bool operator==(const Texture&) const = default;
 };
+
+inline bool texture_has_image(TextureKind kind) {
+  return kind == TextureKind::kImage || kind == TextureKind::kImageDetail;
+}
 
 struct Material {
   std::string name;

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <set>
 
+#include "core/archive_member.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "scene/primitives.h"
@@ -17,8 +18,8 @@ namespace {
 
 using nlohmann::json;
 
-constexpr std::array<const char*, 8> kTextureKinds = {"none",    "image",  "noise", "stripes",
-                                                      "checker", "fabric", "wood",  "marble"};
+constexpr std::array<const char*, 9> kTextureKinds = {
+    "none", "image", "noise", "stripes", "checker", "fabric", "wood", "marble", "image_detail"};
 
 // Reads one JSON object with a path for error messages and a list of the keys it allows.
 class Reader {
@@ -133,6 +134,11 @@ json texture_json(const Texture& t) {
   if (t.kind == TextureKind::kNone) return j;
   if (t.kind == TextureKind::kImage) {
     j["path"] = t.path;
+    return j;
+  }
+  if (t.kind == TextureKind::kImageDetail) {
+    j["path"] = t.path;
+    j["scale"] = t.scale;
     return j;
   }
   j["color_a"] = to_array<3>(t.color_a);
@@ -267,11 +273,12 @@ Texture read_texture(const Reader& r) {
     }
   }
   if (!found) {
-    r.fail_at(r.at("kind"), "unknown texture kind '" + kind +
-                                "' (none, image, noise, stripes, checker, fabric, wood, marble)");
+    r.fail_at(r.at("kind"),
+              "unknown texture kind '" + kind +
+                  "' (none, image, noise, stripes, checker, fabric, wood, marble, image_detail)");
   }
   r.read("path", t.path);
-  if (t.kind == TextureKind::kImage && t.path.empty())
+  if (texture_has_image(t.kind) && t.path.empty())
     r.fail_at(r.at("path"), "image texture needs a path");
   r.read("color_a", t.color_a);
   r.read("color_b", t.color_b);
@@ -560,16 +567,18 @@ Scene load_scene(const std::filesystem::path& path) {
   auto require = [&](const std::string& file, const std::string& json_path) {
     if (file.empty()) return;
     const std::string resolved = resolve_path(s, file);
-    if (!std::filesystem::is_regular_file(resolved)) {
+    // An archive's entry is checked when the renderer reads it; the archive itself here.
+    const std::optional<ArchiveMember> member = archive_member(resolved);
+    if (!std::filesystem::is_regular_file(member ? member->archive.string() : resolved)) {
       throw Error(path.string() + ": " + json_path + ": file '" + resolved + "' not found");
     }
   };
   for (std::size_t i = 0; i < s.materials.size(); ++i) {
-    if (s.materials[i].texture.kind == TextureKind::kImage) {
+    if (texture_has_image(s.materials[i].texture.kind)) {
       require(s.materials[i].texture.path, "/materials/" + std::to_string(i) + "/texture/path");
     }
   }
-  if (s.background.texture.kind == TextureKind::kImage) {
+  if (texture_has_image(s.background.texture.kind)) {
     require(s.background.texture.path, "/background/texture/path");
   }
   require(s.background.image, "/background/image");

@@ -37,6 +37,12 @@ Scene full_scene() {
   img.texture.kind = TextureKind::kImage;
   img.texture.path = "tex/a.png";
   s.materials.push_back(img);
+  Material detail;
+  detail.diffuse = {0.5f, 0.1f, 0.1f};
+  detail.texture.kind = TextureKind::kImageDetail;
+  detail.texture.path = "/usr/share/x.sh3f!/fabrics/denim.jpg";
+  detail.texture.scale = 2.5f;
+  s.materials.push_back(detail);
   Instance in;
   in.name = "ball";
   in.mesh = 0;
