@@ -101,6 +101,31 @@ cv::Matx23d input_transform(const cv::Point2d& centre, double scale, double degr
                      half - (s * centre.x + c * centre.y));
 }
 
+// The input image for continuous transform `m` (labels' coordinates: pixel i spans [i, i + 1)).
+// A shrink goes through an area filter first, as predict's letterbox does: a bilinear warp that
+// shrinks 2.5× samples every 2.5th pixel, and a network trained on such aliased inputs is
+// scored on smooth ones. OpenCV's warp indexes pixels by their centres (index i is continuous
+// i + 0.5), so the matrix is shifted to match, or every label would sit a fraction of a pixel
+// off its pixels, by a different amount with and without a flip.
+cv::Mat warp_image(const cv::Mat& rgb, const cv::Matx23d& m, double scale, int size) {
+  cv::Mat source = rgb;
+  cv::Matx23d a = m;
+  if (scale < 1) {
+    const int w = std::max(1, static_cast<int>(std::lround(rgb.cols * scale)));
+    const int h = std::max(1, static_cast<int>(std::lround(rgb.rows * scale)));
+    cv::resize(rgb, source, cv::Size(w, h), 0, 0, cv::INTER_AREA);
+    const double fx = static_cast<double>(w) / rgb.cols, fy = static_cast<double>(h) / rgb.rows;
+    a = cv::Matx23d(m(0, 0) / fx, m(0, 1) / fy, m(0, 2), m(1, 0) / fx, m(1, 1) / fy, m(1, 2));
+  }
+  cv::Matx23d by_index = a;
+  by_index(0, 2) += 0.5 * (a(0, 0) + a(0, 1)) - 0.5;
+  by_index(1, 2) += 0.5 * (a(1, 0) + a(1, 1)) - 0.5;
+  cv::Mat out;
+  cv::warpAffine(source, out, by_index, cv::Size(size, size), cv::INTER_LINEAR, cv::BORDER_CONSTANT,
+                 cv::Scalar(0, 0, 0));
+  return out;
+}
+
 void jitter_colours(cv::Mat& rgb, RandomStream& random, double amount) {
   if (amount <= 0) return;
   const double brightness = random.uniform(1 - amount, 1 + amount);
@@ -148,9 +173,7 @@ TrainSample augment(const cv::Mat& rgb, const std::vector<TrainPerson>& people,
   const cv::Matx23d m = input_transform(centre, scale, degrees, flip, o.input_size);
 
   TrainSample sample;
-  cv::warpAffine(rgb, sample.rgb, m, cv::Size(o.input_size, o.input_size),
-                 scale < 1 ? cv::INTER_AREA : cv::INTER_LINEAR, cv::BORDER_CONSTANT,
-                 cv::Scalar(0, 0, 0));
+  sample.rgb = warp_image(rgb, m, scale, o.input_size);
   auto map = [&](double x, double y) {
     return cv::Point2d(m(0, 0) * x + m(0, 1) * y + m(0, 2), m(1, 0) * x + m(1, 1) * y + m(1, 2));
   };

@@ -122,6 +122,37 @@ TEST(Augment, KeypointsFollowThePixels) {
   EXPECT_GT(checked, 150);
 }
 
+// Labels and pixels agree to a tenth of a pixel, shrunk (through an area filter) or enlarged,
+// mirrored or not: one bright pixel's centre (its centroid in the input) is where its label
+// lands. COCO's coordinates put pixel i's centre at i + 0.5; OpenCV's warp at i.
+TEST(Augment, LabelsSitOnTheirPixelsToATenthOfAPixel) {
+  cv::Mat rgb = cv::Mat::zeros(200, 300, CV_8UC3);
+  rgb(cv::Rect(140, 90, 10, 10)).setTo(cv::Scalar(255, 255, 255));  // continuous centre 145, 95
+  TrainPerson person;
+  person.box = {120, 70, 50, 50};
+  person.keypoints[0] = 145, person.keypoints[1] = 95, person.keypoints[2] = 2;
+  AugmentOptions o = geometry_only();
+  o.rotate_degrees = 0;
+  int checked = 0;
+  for (const double side : {120.0, 300.0, 640.0}) {  // scales 0.4, 1 and about 2.1
+    o.target_longer_side = static_cast<int>(side);
+    o.scale_min = o.scale_max = 1;
+    for (std::uint64_t key = 0; key < 8; ++key) {
+      const TrainSample s = augment(rgb, {person}, {}, o, 3, key);
+      ASSERT_EQ(s.people.size(), 1u);
+      cv::Mat grey;
+      cv::cvtColor(s.rgb, grey, cv::COLOR_RGB2GRAY);
+      const cv::Moments mo = cv::moments(grey);
+      ASSERT_GT(mo.m00, 0) << side << " " << key;
+      const double cx = mo.m10 / mo.m00 + 0.5, cy = mo.m01 / mo.m00 + 0.5;
+      EXPECT_NEAR(cx, s.people[0].keypoints[0], 0.1) << "side " << side << " key " << key;
+      EXPECT_NEAR(cy, s.people[0].keypoints[1], 0.1) << "side " << side << " key " << key;
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 24);
+}
+
 // With a flip, a left/right pair trades places: left_eye (1) gets what was right_eye (2).
 TEST(Augment, FlipSwapsLeftAndRight) {
   const DotScene scene;
