@@ -3,6 +3,7 @@
 
 #include "generate/frame_builder.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -302,6 +303,19 @@ std::vector<KeypointAnchor> resolve_anchors(const KeypointTemplate& keypoint_tem
   return anchors;
 }
 
+namespace {
+
+// Whether `point` lies within kCameraClearance of the box around `mesh` placed by `transform`.
+bool near_the_camera(const scene::Mesh& mesh, const Eigen::Matrix4f& transform,
+                     const Vector3f& point) {
+  constexpr float kCameraClearance = 0.3f;  // metres
+  Eigen::AlignedBox3f box;
+  for (const Vector3f& v : mesh.positions) box.extend((transform * v.homogeneous()).head<3>());
+  return !box.isEmpty() && box.exteriorDistance(point) < kCameraClearance;
+}
+
+}  // namespace
+
 BuiltFrame build_frame(const FrameDraft& draft, const body::BodyData& body_data,
                        const std::vector<motion::SeatedClip>& clips,
                        const std::vector<KeypointAnchor>& anchors,
@@ -328,9 +342,17 @@ BuiltFrame build_frame(const FrameDraft& draft, const body::BodyData& body_data,
       o.position.y() = model ? 0.0f : 0.5f * o.scale.y();
     const int mesh = model ? out.furniture_mesh(*furniture, static_cast<std::size_t>(o.furniture))
                            : out.primitive_mesh(object_spec(o.shape));
+    const Eigen::Matrix4f transform = trs(o.position, o.rotation, o.scale);
+    // A room's camera stands near an end wall, where furniture stands too: an object around
+    // the camera would fill the frame (2.5 % of the realistic scenario's frames were black, the
+    // camera inside a wardrobe), so it is left out.
+    if (draft.environment == EnvironmentKind::kRoom &&
+        near_the_camera(s.meshes[static_cast<std::size_t>(mesh)], transform, s.camera.position)) {
+      continue;
+    }
     scene::Material m = o.material;
     m.name = "object_" + std::to_string(i + 1);
-    out.add_instance(m.name, mesh, out.add_material(m), trs(o.position, o.rotation, o.scale),
+    out.add_instance(m.name, mesh, out.add_material(m), transform,
                      static_cast<std::uint16_t>(kObjectIdBase + std::min<std::size_t>(i + 1, 999)),
                      kSemanticObject);
   }

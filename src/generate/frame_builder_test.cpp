@@ -126,6 +126,28 @@ TEST(FrameBuilder, PeopleAreLabelledWhereTheyArePlacedWithTheirWheelsOnTheFloor)
   EXPECT_EQ(tyres, 1);
 }
 
+// In a room, an object the camera stands in or beside (within 0.3 m of its box) is left out;
+// the others keep their ids.
+TEST(FrameBuilder, ObjectsAroundTheRoomCameraAreLeftOut) {
+  FrameDraft draft = room_draft();
+  draft.camera.position = Vector3f(-2, 1.2f, 3);
+  ObjectDraft around_camera;
+  around_camera.position = Vector3f(-2, 0, 3.4f);  // a 1 m box 0.2 m below the camera
+  draft.objects.push_back(around_camera);
+  const auto object_names = [](const BuiltFrame& built) {
+    std::vector<std::string> names;
+    for (const scene::Instance& inst : built.scene.instances) {
+      if (inst.name.starts_with("object_")) names.push_back(inst.name);
+    }
+    return names;
+  };
+  EXPECT_EQ(object_names(build_frame(draft, body_data(), {}, {})),
+            std::vector<std::string>{"object_1"});
+  draft.objects.back().position = Vector3f(-2, 0, 4.0f);  // 0.54 m away: kept
+  EXPECT_EQ(object_names(build_frame(draft, body_data(), {}, {})),
+            (std::vector<std::string>{"object_1", "object_2"}));
+}
+
 TEST(FrameBuilder, RefusesTooManyPeopleAndUnknownAnchors) {
   FrameDraft draft;
   draft.index = 12;
