@@ -166,6 +166,11 @@ class Renderer::TileIntegrator {
   // is light arriving at the sample (an unbiased one-bounce estimate; the sky's bounce is left
   // out). `primary` says where each lane's light goes, as for its direct light.
   void add_bounce(int p, RTCRayHit8& rays, PacketMask valid, const ShadowRays& primary);
+  // At a bounce's surface a lamp's 1/d² is floored at this distance: bounce rays that land
+  // beside a ceiling lamp would otherwise carry hundreds of times the light of the others and
+  // speckle the whole room (fireflies the denoiser cannot take). The light lost is what that
+  // close patch of wall or ceiling adds beyond the same patch a metre away.
+  static constexpr float kBounceMinLightDistance = 1.0f;
   void sample_lights(int p, int k, int s, const SurfacePoint& at, ShadowRays& shadows);
   void add_light(ShadowRays& shadows, int q, int k, const Eigen::Vector3f& l, float cos_l,
                  const Eigen::Vector3f& radiance, const SurfacePoint& at,
@@ -173,9 +178,11 @@ class Renderer::TileIntegrator {
   // `u`: the two random numbers of the light's sample (stratified for primary surfaces).
   void sample_sun(int k, std::array<float, 2> u, const Eigen::Vector3f& origin,
                   const SurfacePoint& at, const Eigen::Vector3f& view, ShadowRays& shadows) const;
+  // `min_distance_squared` floors d² in the light's 1/d² (m²).
   void sample_point_light(int k, std::array<float, 2> u, RandomStream& rng,
                           const Eigen::Vector3f& origin, const SurfacePoint& at,
-                          const Eigen::Vector3f& view, ShadowRays& shadows) const;
+                          const Eigen::Vector3f& view, ShadowRays& shadows,
+                          float min_distance_squared) const;
   void sample_environment(int k, int px, int py, RandomStream& rng, const Eigen::Vector3f& origin,
                           const SurfacePoint& at, ShadowRays& shadows) const;
   void resolve_shadows(int p, ShadowRays& shadows);

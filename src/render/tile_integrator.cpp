@@ -291,7 +291,10 @@ void Renderer::TileIntegrator::add_bounce(int p, RTCRayHit8& rays, PacketMask va
       return std::array<float, 2>{a, static_cast<float>(rng.uniform01())};
     };
     if (sun_on_) sample_sun(k, pair(), from, at, dir, second);
-    if (!r_.lights_on_.empty()) sample_point_light(k, pair(), rng, from, at, dir, second);
+    if (!r_.lights_on_.empty()) {
+      sample_point_light(k, pair(), rng, from, at, dir, second,
+                         kBounceMinLightDistance * kBounceMinLightDistance);
+    }
   }
   for (int q = 0; q < 2; ++q) {
     const int n = second.valid[q].count();
@@ -365,7 +368,7 @@ void Renderer::TileIntegrator::sample_lights(int p, int k, int s, const SurfaceP
   const Eigen::Vector3f& view = prim_[li].dir;
   if (sun_on_) sample_sun(k, strata_block_->point(px, py, 0), origin, at, view, shadows);
   if (!r_.lights_on_.empty()) {
-    sample_point_light(k, strata_block_->point(px, py, 1), rng, origin, at, view, shadows);
+    sample_point_light(k, strata_block_->point(px, py, 1), rng, origin, at, view, shadows, 1e-4f);
   }
   if (env_on_) sample_environment(k, px, py, rng, origin, at, shadows);
 }
@@ -411,8 +414,8 @@ void Renderer::TileIntegrator::sample_sun(int k, std::array<float, 2> u,
 void Renderer::TileIntegrator::sample_point_light(int k, std::array<float, 2> u, RandomStream& rng,
                                                   const Eigen::Vector3f& origin,
                                                   const SurfacePoint& at,
-                                                  const Eigen::Vector3f& view,
-                                                  ShadowRays& shadows) const {
+                                                  const Eigen::Vector3f& view, ShadowRays& shadows,
+                                                  float min_distance_squared) const {
   const Eigen::Vector3f& n = at.normal;
   const auto [pick, light_z] = u;
   const int on = static_cast<int>(r_.lights_on_.size());
@@ -453,8 +456,10 @@ void Renderer::TileIntegrator::sample_point_light(int k, std::array<float, 2> u,
   if (c > 0 && at.geometric_normal.dot(l) > 0 && prob > 0) {
     set_ray(shadows.rays[1], k, origin, l, dist);
     shadows.valid[1][k] = -1;
-    add_light(shadows, 1, k, l, c,
-              light.color * (light.intensity / (std::max(dist * dist, 1e-4f) * prob)), at, view);
+    add_light(
+        shadows, 1, k, l, c,
+        light.color * (light.intensity / (std::max(dist * dist, min_distance_squared) * prob)), at,
+        view);
   }
 }
 
