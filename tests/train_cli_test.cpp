@@ -227,6 +227,10 @@ TEST(TrainCli, BadInputIsOneLineAndLeavesTheCheckpoint) {
   EXPECT_NE(r.output.find("--max-relative-step must not be negative"), std::string::npos)
       << r.output;
   EXPECT_FALSE(fs::exists(dir / "capped"));
+  r = run_wheelpose(small_run(gt, dir / "field") + " --offset-radius 9");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--offset-radius must be 0 to 8"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "field"));
 
   json no_image = json::parse(read_text(gt));
   no_image["images"][0]["file_name"] = "missing.jpg";

@@ -139,6 +139,10 @@ void attach_train(CLI::App& parent) {
                   "Cap each weight tensor's rate so that at the peak rate its step is at most "
                   "this fraction of the tensor's RMS (0: off)")
       ->capture_default_str();
+  cmd->add_option("--offset-radius", o.offset_radius,
+                  "Cells around each keypoint that also learn the offset to it, weighted by the "
+                  "keypoint's Gaussian (0: its own cell only)")
+      ->capture_default_str();
   cmd->add_option("--loader-threads", o.loader_threads, "Batches prepared ahead in parallel")
       ->capture_default_str();
   cmd->add_option("--threads", o.threads, "Torch threads (0 = every core)")

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <unordered_map>
 
 #include "core/error.h"
 
@@ -24,7 +26,9 @@ void splat(std::vector<float>& map, int grid, int channels, int channel, int cy,
 
 }  // namespace
 
-MovenetTargets build_targets(const std::vector<TrainPerson>& people, int input_size) {
+MovenetTargets build_targets(const std::vector<TrainPerson>& people, int input_size,
+                             int offset_radius) {
+  WHEELPOSE_CHECK(offset_radius >= 0);
   WHEELPOSE_CHECK(input_size % kOutputStride == 0);
   MovenetTargets t;
   t.grid = input_size / kOutputStride;
@@ -32,6 +36,23 @@ MovenetTargets build_targets(const std::vector<TrainPerson>& people, int input_s
   t.centre_heatmap.assign(static_cast<std::size_t>(g) * g, 0.f);
   t.keypoint_heatmap.assign(static_cast<std::size_t>(g) * g * kKeypoints, 0.f);
   const double s = 1.0 / kOutputStride;
+  // (cell · 17 + keypoint) → its entry in t.keypoints, for the cells around keypoints: a cell
+  // keeps the heaviest (nearest) target. Two keypoints' own cells (weight 1) both stay.
+  std::unordered_map<std::int64_t, std::size_t> around;
+  auto add_offset = [&](const KeypointTarget& target) {
+    const std::int64_t key = static_cast<std::int64_t>(target.cell) * kKeypoints + target.keypoint;
+    const auto [it, fresh] = around.try_emplace(key, t.keypoints.size());
+    if (fresh) {
+      t.keypoints.push_back(target);
+      return;
+    }
+    KeypointTarget& held = t.keypoints[it->second];
+    if (target.weight == 1 && held.weight == 1) {
+      t.keypoints.push_back(target);
+    } else if (target.weight > held.weight) {
+      held = target;
+    }
+  };
   for (const TrainPerson& p : people) {
     if (p.ignore) continue;
     const double cy = (p.box.y + p.box.h / 2) * s, cx = (p.box.x + p.box.w / 2) * s;
@@ -52,9 +73,16 @@ MovenetTargets build_targets(const std::vector<TrainPerson>& people, int input_s
       const int ky_cell = std::clamp(static_cast<int>(std::floor(ky)), 0, g - 1);
       const int kx_cell = std::clamp(static_cast<int>(std::floor(kx)), 0, g - 1);
       splat(t.keypoint_heatmap, g, kKeypoints, k, ky_cell, kx_cell, sigma);
-      t.keypoints.push_back({ky_cell * g + kx_cell,
-                             k,
-                             {static_cast<float>(ky - ky_cell), static_cast<float>(kx - kx_cell)}});
+      const int r = offset_radius;
+      for (int y = std::max(0, ky_cell - r); y <= std::min(g - 1, ky_cell + r); ++y) {
+        for (int x = std::max(0, kx_cell - r); x <= std::min(g - 1, kx_cell + r); ++x) {
+          const double d2 = (y - ky_cell) * (y - ky_cell) + (x - kx_cell) * (x - kx_cell);
+          add_offset({y * g + x,
+                      k,
+                      {static_cast<float>(ky - y), static_cast<float>(kx - x)},
+                      static_cast<float>(std::exp(-d2 / (2 * sigma * sigma)))});
+        }
+      }
     }
     t.centres.push_back(c);
   }

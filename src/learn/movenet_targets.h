@@ -7,7 +7,13 @@
 //  - keypoint heatmaps: the same Gaussian at each labelled keypoint's cell (v = 1 or 2);
 //  - at the centre cell: keypoint regression = keypoint − centre cell (y, x per keypoint,
 //    labelled ones only), box scale = (h, w), box offset = box centre − centre cell;
-//  - at each labelled keypoint's cell: offset = keypoint − cell (y, x);
+//  - at each labelled keypoint's cell: offset = keypoint − cell (y, x), weight 1; with an
+//    offset radius R > 0 also at every cell within R cells (Chebyshev) of it, weighted by the
+//    Gaussian below at that cell, so the offsets form a field that points at the keypoint from
+//    wherever the decoder's heatmap peak lands (the pretrained MultiPose's field does: its
+//    offsets one cell away miss the keypoint by 0.22 cells on real photos, and one-cell targets
+//    let fine-tuning wreck that to 0.77). A cell near two people's same keypoint takes the
+//    heavier one;
 //  - crowd regions get no targets; their cells get heatmap weight 0 (no negative loss there).
 // Sigma of the Gaussians, in cells: max(0.8, 0.1 · sqrt(box h · box w)) — the spread grows with
 // the person so a large person's peak is not a single cell.
@@ -34,6 +40,7 @@ struct KeypointTarget {
   int cell = 0;
   int keypoint = 0;
   std::array<float, 2> offset{};  // (dy, dx)
+  float weight = 1;               // 1 at the keypoint's own cell, the Gaussian around it
 };
 
 struct MovenetTargets {
@@ -47,6 +54,9 @@ struct MovenetTargets {
   std::vector<KeypointTarget> keypoints;
 };
 
-MovenetTargets build_targets(const std::vector<TrainPerson>& people, int input_size);
+// `offset_radius`: cells around each keypoint's cell that get offset targets too (0: its own
+// cell only, CenterNet's rule).
+MovenetTargets build_targets(const std::vector<TrainPerson>& people, int input_size,
+                             int offset_radius = 0);
 
 }  // namespace wheelpose::learn

@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <map>
+#include <set>
+
 namespace wheelpose::learn {
 namespace {
 
@@ -36,6 +40,54 @@ TEST(MovenetTargets, GoldenValuesForOnePerson) {
   EXPECT_LT(t.centre_heatmap[20 * 32 + 16], 1.f);
   EXPECT_EQ(t.keypoint_heatmap[(11 * 32 + 12) * 17 + 0], 1.f);
   EXPECT_EQ(t.keypoint_heatmap[(11 * 32 + 12) * 17 + 1], 0.f);  // other channel untouched
+}
+
+// With an offset radius every cell around a keypoint learns the offset to it, weighted by the
+// person's Gaussian (σ = max(0.8, 0.1 · sqrt(20 · 10)) = √2 cells here); radius 0 is the
+// one-cell rule.
+TEST(MovenetTargets, OffsetsAroundAKeypointPointAtIt) {
+  TrainPerson p;
+  p.box = {42, 40, 40, 80};
+  p.keypoints[0] = 50.5, p.keypoints[1] = 45, p.keypoints[2] = 2;  // (11.25, 12.625) cells
+  const MovenetTargets one_cell = build_targets({p}, 128, 0);
+  ASSERT_EQ(one_cell.keypoints.size(), 1u);
+  EXPECT_EQ(one_cell.keypoints[0].weight, 1.f);
+  const MovenetTargets t = build_targets({p}, 128, 1);
+  ASSERT_EQ(t.keypoints.size(), 9u);
+  for (const KeypointTarget& k : t.keypoints) {
+    const int dy = k.cell / 32 - 11, dx = k.cell % 32 - 12;
+    EXPECT_FLOAT_EQ(k.cell / 32 + k.offset[0], 11.25f);
+    EXPECT_FLOAT_EQ(k.cell % 32 + k.offset[1], 12.625f);
+    EXPECT_FLOAT_EQ(k.weight, std::exp(-(dy * dy + dx * dx) / 4.0f)) << dy << ", " << dx;
+  }
+  // Cut at the border: a keypoint in the corner cell has 4 cells within radius 1.
+  p.keypoints[0] = 1, p.keypoints[1] = 1;
+  EXPECT_EQ(build_targets({p}, 128, 1).keypoints.size(), 4u);
+}
+
+// Two people's same keypoint 3 cells apart: each cell between them points at the nearer one;
+// their own cells keep weight 1.
+TEST(MovenetTargets, ACellBetweenTwoKeypointsPointsAtTheNearer) {
+  TrainPerson a;
+  a.box = {0, 0, 40, 80};
+  a.keypoints[0] = 40.5, a.keypoints[1] = 20.5, a.keypoints[2] = 2;  // cell (5, 10)
+  TrainPerson b = a;
+  b.box.x = 12;
+  b.keypoints[0] = 52.5;  // cell (5, 13)
+  const MovenetTargets t = build_targets({a, b}, 128, 2);
+  std::map<int, const KeypointTarget*> row5;
+  std::set<int> cells;
+  for (const KeypointTarget& k : t.keypoints) {
+    ASSERT_TRUE(cells.insert(k.cell).second) << "two targets in cell " << k.cell;
+    if (k.cell / 32 == 5) row5[k.cell % 32] = &k;
+  }
+  ASSERT_EQ(row5.size(), 8u);  // x 8..15
+  EXPECT_FLOAT_EQ(row5.at(10)->weight, 1.f);
+  EXPECT_FLOAT_EQ(row5.at(13)->weight, 1.f);
+  EXPECT_FLOAT_EQ(11 + row5.at(11)->offset[1], 10.125f);  // a's keypoint: 40.5 / 4
+  EXPECT_FLOAT_EQ(12 + row5.at(12)->offset[1], 13.125f);  // b's: 52.5 / 4
+  EXPECT_FLOAT_EQ(8 + row5.at(8)->offset[1], 10.125f);
+  EXPECT_FLOAT_EQ(15 + row5.at(15)->offset[1], 13.125f);
 }
 
 // A crowd region gets no targets; its cells lose their heatmap weight except where a person's

@@ -1,5 +1,6 @@
 #include "learn/train_step.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -45,7 +46,8 @@ Tensor rows(const Tensor& head, const Tensor& index) {
 
 }  // namespace
 
-TrainBatch make_train_batch(const std::vector<TrainSample>& samples, int input_size) {
+TrainBatch make_train_batch(const std::vector<TrainSample>& samples, int input_size,
+                            int offset_radius) {
   WHEELPOSE_CHECK(input_size % kOutputStride == 0 && !samples.empty());
   const int b = static_cast<int>(samples.size()), s = input_size, g = s / kOutputStride;
   TrainBatch batch;
@@ -53,14 +55,15 @@ TrainBatch make_train_batch(const std::vector<TrainSample>& samples, int input_s
   batch.centre_heatmap = torch::empty({b, g, g, 1}, torch::kFloat);
   batch.keypoint_heatmap = torch::empty({b, g, g, kKeypoints}, torch::kFloat);
   std::vector<std::int64_t> centre_index, keypoint_index, keypoint_channel;
-  std::vector<float> regress, regress_mask, scale, box_offset, keypoint_offset;
+  std::vector<float> regress, regress_mask, scale, box_offset, keypoint_offset, keypoint_weight;
   std::vector<MovenetTargets> all_targets;
   all_targets.reserve(samples.size());
   bool any_crowd = false;
   for (int slot = 0; slot < b; ++slot) {
     const TrainSample& sample = samples[slot];
     WHEELPOSE_CHECK(sample.rgb.rows == s && sample.rgb.cols == s && sample.rgb.type() == CV_8UC3);
-    const MovenetTargets& t = all_targets.emplace_back(build_targets(sample.people, s));
+    const MovenetTargets& t =
+        all_targets.emplace_back(build_targets(sample.people, s, offset_radius));
     any_crowd |= !t.heatmap_weight.empty();
     cv::Mat f;
     sample.rgb.convertTo(f, CV_32FC3);
@@ -81,6 +84,7 @@ TrainBatch make_train_batch(const std::vector<TrainSample>& samples, int input_s
       keypoint_index.push_back(base + k.cell);
       keypoint_channel.push_back(k.keypoint);
       keypoint_offset.insert(keypoint_offset.end(), k.offset.begin(), k.offset.end());
+      keypoint_weight.push_back(k.weight);
     }
   }
   if (any_crowd) {
@@ -104,6 +108,9 @@ TrainBatch make_train_batch(const std::vector<TrainSample>& samples, int input_s
   batch.keypoint_index = longs(keypoint_index);
   batch.keypoint_channel = longs(keypoint_channel);
   batch.keypoint_offset = floats(keypoint_offset, 2);
+  if (std::any_of(keypoint_weight.begin(), keypoint_weight.end(), [](float w) { return w != 1; })) {
+    batch.keypoint_weight = torch::tensor(keypoint_weight, torch::kFloat);
+  }
   return batch;
 }
 
@@ -132,8 +139,11 @@ StepLosses compute_losses(const TensorMap& heads, const TrainBatch& b) {
     const Tensor picked = rows(offset, b.keypoint_index).reshape({-1, kKeypoints, 2});
     const Tensor at_k =
         picked.gather(1, b.keypoint_channel.view({-1, 1, 1}).expand({-1, 1, 2})).squeeze(1);
-    l_offset = (at_k - b.keypoint_offset).abs().sum() /
-               static_cast<double>(b.keypoint_index.size(0)) * kOffsetWeight;
+    const Tensor error = (at_k - b.keypoint_offset).abs();
+    l_offset = b.keypoint_weight.defined()
+                   ? error.sum(1).mul(b.keypoint_weight).sum() / b.keypoint_weight.sum()
+                   : error.sum() / static_cast<double>(b.keypoint_index.size(0));
+    l_offset = l_offset * kOffsetWeight;
   }
   StepLosses out;
   out.total = l_centre + l_heatmap + l_regress + l_offset + l_scale + l_box;

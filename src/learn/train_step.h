@@ -29,10 +29,15 @@ struct TrainBatch {
   torch::Tensor centre_index;                                       // N (b·G² + cell)
   torch::Tensor regress, regress_mask, scale, box_offset;           // N×34, N×34, N×2, N×2
   torch::Tensor keypoint_index, keypoint_channel, keypoint_offset;  // M, M, M×2
+  // M: each offset target's weight (MovenetTargets); undefined when every one is 1 (offset
+  // radius 0), so those batches compute exactly what they did before.
+  torch::Tensor keypoint_weight;
 };
 
-// Samples of input_size² (augment's output) with their targets, as one batch.
-TrainBatch make_train_batch(const std::vector<TrainSample>& samples, int input_size);
+// Samples of input_size² (augment's output) with their targets (offsets within
+// `offset_radius` cells of each keypoint: build_targets), as one batch.
+TrainBatch make_train_batch(const std::vector<TrainSample>& samples, int input_size,
+                            int offset_radius = 0);
 
 struct StepLosses {
   torch::Tensor total;  // differentiable

@@ -76,7 +76,7 @@ TrainBatch make_batch(const Data& data, const TrainOptions& o, std::int64_t step
         augment(rgb, image.people, data.flip_pairs, o.augment, o.seed,
                 static_cast<std::uint64_t>(step) * static_cast<std::uint64_t>(o.batch) + slot));
   }
-  return make_train_batch(samples, o.augment.input_size);
+  return make_train_batch(samples, o.augment.input_size, o.offset_radius);
 }
 
 double learning_rate_at(const TrainOptions& o, int step) {
@@ -105,6 +105,9 @@ void check(const TrainOptions& o) {
   if (o.pull_to_start < 0) bad("--pull-to-start must not be negative");
   if (o.distill < 0) bad("--distill must not be negative");
   if (o.max_relative_step < 0) bad("--max-relative-step must not be negative");
+  if (o.offset_radius < 0 || o.offset_radius > kMaxOffsetRadius) {
+    bad("--offset-radius must be 0 to " + std::to_string(kMaxOffsetRadius));
+  }
   if (o.val_every < 1) bad("--val-every must be at least 1");
   if (o.world_size < 1) bad("--world-size must be at least 1");
   if (o.rank < 0 || o.rank >= o.world_size) bad("--rank must be in 0 … world size − 1");
@@ -316,6 +319,7 @@ std::string resume_key(const TrainOptions& o) {
   if (o.pull_to_start > 0) extended["pull_to_start"] = o.pull_to_start;
   if (o.distill > 0) extended["distill"] = o.distill;
   if (o.max_relative_step > 0) extended["max_relative_step"] = o.max_relative_step;
+  if (o.offset_radius > 0) extended["offset_radius"] = o.offset_radius;
   return extended.dump();
 }
 

@@ -15,6 +15,10 @@
 
 namespace wheelpose::learn {
 
+// --offset-radius's largest value: beyond 8 cells (32 input pixels) a cell is far outside any
+// keypoint's heatmap peak, where the decoder never reads an offset.
+inline constexpr int kMaxOffsetRadius = 8;
+
 struct TrainOptions {
   std::vector<TrainSource> train;
   std::filesystem::path model_json;                   // the topology (movenet-multipose)
@@ -45,6 +49,10 @@ struct TrainOptions {
   // fraction of the tensor's RMS (Adam moves every weight by about the rate whatever its size;
   // see rate_groups in trainer.cpp). 0: the two groups' rates as they are.
   double max_relative_step = 0;
+  // Cells around each keypoint that learn the offset to it too (learn/movenet_targets.h): the
+  // pretrained MultiPose decodes from a field of offsets, not from one cell. 0: CenterNet's
+  // one cell.
+  int offset_radius = 0;
   int checkpoint_every = 100;
   int loader_threads = 1;  // batches prepared ahead, each on its own thread
   int threads = 0;         // torch intra-op threads; 0 = every core
