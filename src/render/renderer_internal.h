@@ -5,6 +5,7 @@
 #include <embree3/rtcore.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -69,6 +70,17 @@ inline void basis(const Eigen::Vector3f& w, Eigen::Vector3f& u, Eigen::Vector3f&
   const float b = w.x() * w.y() * a;
   u = Eigen::Vector3f(1.0f + sign * w.x() * w.x() * a, sign * b, -sign * w.x());
   v = Eigen::Vector3f(b, sign + w.y() * w.y() * a, -w.y());
+}
+
+// A cosine-weighted direction about the unit vector n from two uniform numbers in [0, 1): a
+// uniform point of the unit disk lifted onto the hemisphere (Malley's method); unit by
+// construction.
+inline Eigen::Vector3f cosine_direction(const Eigen::Vector3f& n, float r1, float r2) {
+  Eigen::Vector3f u, v;
+  basis(n, u, v);
+  const float radius = std::sqrt(r1), angle = 2 * kPi * r2;
+  return radius * std::cos(angle) * u + radius * std::sin(angle) * v +
+         std::sqrt(std::max(0.0f, 1 - r1)) * n;
 }
 
 inline void set_ray(RTCRay8& r, int k, const Eigen::Vector3f& o, const Eigen::Vector3f& d,

@@ -252,11 +252,7 @@ void Renderer::TileIntegrator::shade_packet(int p, int s) {
       RandomStream& rng = *streams_[li];
       const float r1 = static_cast<float>(rng.uniform01()),
                   r2 = static_cast<float>(rng.uniform01());
-      Eigen::Vector3f bu, bv;
-      basis(at.normal, bu, bv);
-      const float rad = std::sqrt(r1), ph = 2 * kPi * r2;
-      const Eigen::Vector3f l = rad * std::cos(ph) * bu + rad * std::sin(ph) * bv +
-                                std::sqrt(std::max(0.0f, 1 - r1)) * at.normal;  // unit
+      const Eigen::Vector3f l = cosine_direction(at.normal, r1, r2);
       if (at.geometric_normal.dot(l) > 0) {
         const float eps = 1e-4f * (1.0f + at.position.cwiseAbs().maxCoeff());
         set_ray(bounce.ray, k, at.position + eps * at.geometric_normal, l, kInf);
@@ -480,11 +476,7 @@ void Renderer::TileIntegrator::sample_environment(int k, int px, int py, RandomS
       float ignored = 0;
       l = r_.sample_environment(r1, r2, ignored);
     } else {
-      Eigen::Vector3f bu, bv;
-      basis(n, bu, bv);
-      const float rad = std::sqrt(r1), ph = 2 * kPi * r2;
-      l = rad * std::cos(ph) * bu + rad * std::sin(ph) * bv +
-          std::sqrt(std::max(0.0f, 1 - r1)) * n;  // unit by construction
+      l = cosine_direction(n, r1, r2);
     }
     const float c = n.dot(l);
     const float pdf = 0.5f * r_.environment_pdf(l) + 0.5f * std::max(0.0f, c) / kPi;
@@ -497,11 +489,7 @@ void Renderer::TileIntegrator::sample_environment(int k, int px, int py, RandomS
     return;
   }
   const auto [r1, r2] = strata_block_->point(px, py, 2);
-  Eigen::Vector3f bu, bv;
-  basis(n, bu, bv);
-  const float rad = std::sqrt(r1), ph = 2 * kPi * r2;
-  const Eigen::Vector3f l = rad * std::cos(ph) * bu + rad * std::sin(ph) * bv +
-                            std::sqrt(std::max(0.0f, 1 - r1)) * n;  // unit
+  const Eigen::Vector3f l = cosine_direction(n, r1, r2);
   if (at.geometric_normal.dot(l) > 0) {
     set_ray(shadows.rays[2], k, origin, l, kInf);
     shadows.valid[2][k] = -1;
