@@ -141,7 +141,7 @@ void attach_train(CLI::App& parent) {
       ->capture_default_str();
   cmd->add_option("--offset-radius", o.offset_radius,
                   "Cells around each keypoint that also learn the offset to it, weighted by the "
-                  "keypoint's Gaussian (0: its own cell only)")
+                  "keypoint's Gaussian (0: its own cell only, CenterNet's rule)")
       ->capture_default_str();
   cmd->add_option("--loader-threads", o.loader_threads, "Batches prepared ahead in parallel")
       ->capture_default_str();

@@ -50,9 +50,10 @@ struct TrainOptions {
   // see rate_groups in trainer.cpp). 0: the two groups' rates as they are.
   double max_relative_step = 0;
   // Cells around each keypoint that learn the offset to it too (learn/movenet_targets.h): the
-  // pretrained MultiPose decodes from a field of offsets, not from one cell. 0: CenterNet's
-  // one cell.
-  int offset_radius = 0;
+  // pretrained MultiPose decodes from a field of offsets, not from one cell, and one-cell
+  // targets cost 2–4 keypoint AP on real photos (docs/results.md, "The offset field"). 0:
+  // CenterNet's one cell.
+  int offset_radius = 2;
   int checkpoint_every = 100;
   int loader_threads = 1;  // batches prepared ahead, each on its own thread
   int threads = 0;         // torch intra-op threads; 0 = every core
