@@ -7,6 +7,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string>
 
 #include "learn/graph_module.h"
 #include "learn/learn_test_support.h"
@@ -119,6 +120,19 @@ TEST(CrowdRegions, ConfidenceInsideARegionCostsNothing) {
   EXPECT_NEAR(compute_losses(heads(-6.0), plain).parts.centre, quiet.centre, 1e-5);
 }
 
+// The COCO sample's skier as a 256² batch, unaugmented, with offsets taught `offset_radius`
+// cells around each keypoint.
+TrainBatch unaugmented_skier_batch(const std::string& name, int offset_radius) {
+  const testing::TempDir dir(name);
+  const TrainSet set = load_train_set({{testing::write_skier_set(dir.path() / "set"), 1}});
+  const TrainImage& skier = set.images.at(0);
+  cv::Mat rgb;
+  cv::cvtColor(cv::imread(skier.file.string()), rgb, cv::COLOR_BGR2RGB);
+  return make_train_batch(
+      {augment(rgb, skier.people, {}, testing::no_augmentation(256, 256), 1, 0)}, 256,
+      offset_radius);
+}
+
 // The targets follow the conventions the pretrained MoveNet was trained with: on the COCO
 // sample's skier, unaugmented, its own heads land where build_targets puts them, so a swapped
 // axis, a half-cell shift or other units in any head fail here. Measured: the centre peak one
@@ -126,13 +140,7 @@ TEST(CrowdRegions, ConfidenceInsideARegionCostsNothing) {
 // off on average, keypoints decoded at each heatmap's peak shifted by (0.16, 0.29) cells.
 TEST(TargetConventions, ThePretrainedModelAgreesWithTheTargets) {
   WHEELPOSE_REQUIRE_MODEL("movenet-multipose");
-  const testing::TempDir dir("conventions");
-  const TrainSet set = load_train_set({{testing::write_skier_set(dir.path() / "set"), 1}});
-  const TrainImage* skier = &set.images.at(0);
-  cv::Mat rgb;
-  cv::cvtColor(cv::imread(skier->file.string()), rgb, cv::COLOR_BGR2RGB);
-  const AugmentOptions unaugmented = testing::no_augmentation(256, 256);
-  const TrainBatch b = make_train_batch({augment(rgb, skier->people, {}, unaugmented, 1, 0)}, 256);
+  const TrainBatch b = unaugmented_skier_batch("conventions", 0);
   ASSERT_EQ(b.centre_index.size(0), 1);
   GraphModule model(testing::model_json("movenet-multipose"));
   const torch::NoGradGuard no_grad;
@@ -176,13 +184,7 @@ TEST(TargetConventions, ThePretrainedModelAgreesWithTheTargets) {
 // would miss by 1.25.
 TEST(TargetConventions, ThePretrainedOffsetsAroundAKeypointPointAtIt) {
   WHEELPOSE_REQUIRE_MODEL("movenet-multipose");
-  const testing::TempDir dir("offset-field");
-  const TrainSet set = load_train_set({{testing::write_skier_set(dir.path() / "set"), 1}});
-  const TrainImage* skier = &set.images.at(0);
-  cv::Mat rgb;
-  cv::cvtColor(cv::imread(skier->file.string()), rgb, cv::COLOR_BGR2RGB);
-  const TrainBatch b = make_train_batch(
-      {augment(rgb, skier->people, {}, testing::no_augmentation(256, 256), 1, 0)}, 256, 1);
+  const TrainBatch b = unaugmented_skier_batch("offset-field", 1);
   ASSERT_TRUE(b.keypoint_weight.defined());
   GraphModule model(testing::model_json("movenet-multipose"));
   const torch::NoGradGuard no_grad;
