@@ -4,6 +4,7 @@
 
 #include "learn/graph_module.h"
 #include "learn/train_step.h"
+#include "learn/trainer.h"
 
 namespace wheelpose::learn {
 
@@ -16,7 +17,8 @@ struct TrainStepProbe::Impl {
   Impl(const std::filesystem::path& model_json, const std::vector<TrainSample>& samples,
        int input_size)
       : model(model_json),
-        batch(make_train_batch(samples, input_size)),
+        // The targets `train` builds by default (offsets around each keypoint included).
+        batch(make_train_batch(samples, input_size, TrainOptions{}.offset_radius)),
         optimizer(model.parameters(), torch::optim::AdamWOptions(1e-5)) {}
 };
 
