@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <fstream>
 #include <sstream>
 
 #include "core/error.h"
+#include "learn/model_files.h"
 
 namespace wheelpose::experiment {
 namespace {
@@ -38,6 +40,7 @@ class Planner {
          at = key.find(root, at)) {
       key.replace(at, root.size(), "@OUT");
     }
+    key += input_contents(make(placeholder));
     const std::string id = kind + "-" + name + "-" + stable_hash(key).substr(0, 10);
     const fs::path dir = steps_dir_ / id;
     if (std::none_of(plan_.steps.begin(), plan_.steps.end(),
@@ -171,7 +174,53 @@ class Planner {
     return text;
   }
 
+  // The contents of the files the commands read from outside the run (scenario, clip list,
+  // annotations, weights; a shipped model by name is its folder's files), so a step whose input
+  // file was edited since the last run is a new step, not a stale reuse. Image folders are not
+  // read: they are too large, and an image set is named by its annotations.
+  std::string input_contents(const std::vector<std::vector<std::string>>& commands) {
+    std::string text;
+    for (const auto& command : commands) {
+      for (std::size_t i = 0; i < command.size(); ++i) {
+        const bool model_name = i > 0 && command[i - 1] == "--model";
+        for (const fs::path& file : input_files(command[i], model_name)) {
+          text += '\x1e' + content_hash(file);
+        }
+      }
+    }
+    return text;
+  }
+
+  std::vector<fs::path> input_files(const std::string& arg, bool model_name) const {
+    std::error_code ec;
+    const fs::path path = arg;
+    const auto inside =
+        std::mismatch(out_dir_.begin(), out_dir_.end(), path.begin(), path.end()).first;
+    if (inside == out_dir_.end()) return {};  // another step's output: its id says what it holds
+    if (fs::is_regular_file(path, ec)) return {path};
+    const auto& shipped = learn::shipped_model_names();
+    if (!model_name || std::find(shipped.begin(), shipped.end(), arg) == shipped.end()) return {};
+    std::vector<fs::path> files;
+    for (const auto& entry : fs::directory_iterator(learn::shipped_models_dir() / arg, ec)) {
+      if (entry.is_regular_file(ec)) files.push_back(entry.path());
+    }
+    std::sort(files.begin(), files.end());
+    return files;
+  }
+
+  const std::string& content_hash(const fs::path& file) {
+    auto [at, added] = content_hashes_.try_emplace(file);
+    if (added) {
+      std::ifstream in(file, std::ios::binary);
+      std::ostringstream bytes;
+      bytes << in.rdbuf();
+      at->second = stable_hash(bytes.str());
+    }
+    return at->second;
+  }
+
   fs::path out_dir_, steps_dir_;
+  std::map<fs::path, std::string> content_hashes_;
   Plan plan_;
   std::map<std::string, fs::path> trained_weights_;
   std::map<fs::path, fs::path> split_images_;

@@ -2,7 +2,9 @@
 // An experiment's work as steps: each a few `wheelpose` command lines, in order, writing into
 // its own folder under the run's steps/. A step's folder is named by a hash of its commands, so
 // variants that share a dataset or a baseline share the step, a resumed run finds its finished
-// steps, and a changed setting makes a new step instead of reusing a stale one.
+// steps, and a changed setting makes a new step instead of reusing a stale one. The hash also
+// reads the files the commands name from outside the run (scenario, clips, annotations,
+// weights), so an edited input file is a changed setting too.
 
 #include <filesystem>
 #include <map>

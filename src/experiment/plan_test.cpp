@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fstream>
 
 #include "experiment/experiment_test_support.h"
 
@@ -102,6 +103,25 @@ TEST(ExperimentPlan, StepsAreNamedByWhatTheyDoNotWhereTheRunLives) {
   EXPECT_EQ(ids_of(a, "generate"), ids_of(c, "generate"));
   EXPECT_NE(ids_of(a, "train"), ids_of(c, "train"));
   EXPECT_EQ(stable_hash("wheelpose"), "35192a84071ac219");  // FNV-1a 64, never a per-run hash
+}
+
+// Editing a file the experiment reads (here the scenario) makes new steps from the first one
+// that reads it on: a resumed run never reuses frames rendered from the old file.
+TEST(ExperimentPlan, AnEditedInputFileIsANewStep) {
+  const auto dir = scratch_dir("edited");
+  const auto variants = parse_experiment(kSmallExperiment, "exp.yaml", dir, test_commands());
+  const Plan before = make_plan(variants, dir / "run");
+  EXPECT_EQ(ids_of(make_plan(variants, dir / "run"), "generate"), ids_of(before, "generate"));
+  std::ofstream(dir / "scene.yaml") << "image: {width: 96}\n";
+  const Plan after = make_plan(variants, dir / "run");
+  EXPECT_NE(ids_of(after, "generate"), ids_of(before, "generate"));
+  EXPECT_NE(ids_of(after, "train"), ids_of(before, "train"));
+  EXPECT_EQ(ids_of(after, "split"), ids_of(before, "split"));  // it never reads the scenario
+  // The same for annotations: every step reading real.json changes, the generation does not.
+  std::ofstream(dir / "real.json") << "{\"images\": []}";
+  const Plan relabelled = make_plan(variants, dir / "run");
+  EXPECT_EQ(ids_of(relabelled, "generate"), ids_of(after, "generate"));
+  EXPECT_NE(ids_of(relabelled, "split"), ids_of(after, "split"));
 }
 
 }  // namespace
