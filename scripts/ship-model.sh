@@ -5,18 +5,22 @@
 # real-photo ensemble `predict --model movenet-multipose --model movenet-wheelchair-full
 # --flip`), each a model.json, its weight shard and a MODEL_CARD.md. The recipe and every score
 # is configs/experiments/ship.yaml, run by `wheelpose experiment run` (resumable into OUT); this
-# script exports its weights and writes the cards from OUT/results.json.
+# script exports its weights and writes the cards from OUT/results.json. It replaces nothing
+# (exit 1) unless the new blend is at least as good as the shipped one on every real set (box
+# AP and AP50 of both dev sets, keypoint AP of real and of seated people); --force ships anyway.
 #
-# usage: scripts/ship-model.sh [OUT (default out/ship)]
-# Needs the real dev sets of scripts/real-photos.sh (measured on, never trained on).
+# usage: scripts/ship-model.sh [--force] [OUT (default out/ship)]
+# Needs the real sets of scripts/real-photos.sh and scripts/coco-people.sh (measured on only).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 source "$root/scripts/lib/experiment-wrapper.sh"
 wp="$root/build/release/wheelpose"
 out=out/ship
+force=0
 while (($#)); do
   case "$1" in
-    -h | --help) sed -n '2,11p' "$0"; exit 0 ;;
+    -h | --help) sed -n '2,14p' "$0"; exit 0 ;;
+    --force) force=1 ;;
     -*) refuse_legacy_flag ship-model "$1" ;;
     *) out="$1" ;;
   esac
@@ -26,9 +30,35 @@ refuse_legacy_variables ship-model
 run_experiment ship "$out"
 
 results="$out/results.json"
+# worse_than_shipped: one line per real number where the new blend falls below the model
+# shipped now (scored in the same run as `shipped-now`).
+worse_than_shipped() {
+  jq -r '
+    .results as $rows
+    | def at(m; s; z): [$rows[] | select(.model == m and .set == s and .size == z)] | first;
+    [["real-wheelchair", 256, "bbox", "AP"], ["real-wheelchair", 256, "bbox", "AP50"],
+     ["real-standing", 256, "bbox", "AP"], ["real-standing", 256, "bbox", "AP50"],
+     ["real-people", 0, "keypoints", "AP"], ["real-seated", 0, "keypoints", "AP"]][]
+    | . as [$set, $size, $type, $metric]
+    | (at("movenet-wheelchair"; $set; $size)[$type][$metric]) as $new
+    | (at("shipped-now"; $set; $size)[$type][$metric]) as $now
+    | if $new == null or $now == null then "\($set) \($type) \($metric): not scored"
+      elif $new < $now then "\($set) \($type) \($metric): \($new * 1000 | round / 10) < \($now * 1000 | round / 10) shipped"
+      else empty end
+  ' "$1"
+}
 step_of() { jq -er --arg kind "$1" '[.steps[] | select(.kind == $kind)] | first | .id' "$results"; }
 trained="$out/steps/$(step_of train)/best.pt"
 blended="$out/steps/$(step_of blend)/blend.pt"
+worse=$(worse_than_shipped "$results")
+if [[ -n $worse ]]; then
+  echo "ship-model: the new model is worse than the shipped one on a real set:" >&2
+  echo "$worse" | sed 's/^/  /' >&2
+  if ((force == 0)); then
+    echo "ship-model: nothing replaced (--force ships it anyway); scores in $out/report.md" >&2
+    exit 1
+  fi
+fi
 ship="$root/share/models/movenet-wheelchair" ship_full="$root/share/models/movenet-wheelchair-full"
 staging="$ship.partial" staging_full="$ship_full.partial"
 rm -rf "$staging" "$staging_full"
@@ -62,6 +92,8 @@ rows() {  # rows BEFORE AFTER REAL_SIZE
   row "generated, people without wheelchairs ($(frames standing) frames)" standing "$1" "$2"
   row "$real_label: people in wheelchairs" real-wheelchair "$1" "$2" "$3"
   row "$real_label: people without wheelchairs" real-standing "$1" "$2" "$3"
+  row "real people, COCO val2017 single-person photos (licences 4, 5, 7, 8)" real-people "$1" "$2"
+  row "real seated people (the same photos, captions say seated)" real-seated "$1" "$2"
 }
 train_seconds=$(jq '[.steps[] | select(.kind == "train") | .seconds] | add | round' "$results")
 best_step=$(jq .step "$(dirname "$trained")/best.json")
@@ -91,7 +123,7 @@ $made
 
 The recipe is \`configs/experiments/ship.yaml\` (commit $(jq -r .commit "$results")): $(frames train)
 generated frames of people in wheelchairs (seed 101, \`configs/boost-train.yaml\`, the paper's
-randomizers), steps of 16 crops at predict's scale, AdamW lr 1e-4 (backbone × 0.05), seed 1;
+randomizers, hips labelled where COCO puts them), steps of 16 crops at predict's scale, AdamW lr 1e-4 (backbone × 0.05), seed 1;
 the weights of step $best_step (best validation keypoint AP on $(frames val) frames of the
 training distribution), then blended with the pretrained weights: pretrained + 0.5 ×
 (fine-tuned − pretrained) (\`wheelpose model blend\`, WiSE-FT), which keeps most of what the
@@ -100,12 +132,20 @@ $train_seconds s on this machine ($(nproc) cores, $(grep -m1 'model name' /proc/
 
 ## Results
 
-Pretrained → this model (change), in points, all at \`predict\`'s default input (256 and 640
-merged). Keypoint AP needs keypoint labels; real photo sets with boxes only have box AP.
+Pretrained → this model (change), in points, at \`predict\`'s default input (256 and 640
+merged), the lexra/wheelchair photos at \`--size 256\` (their best single size). Keypoint AP
+needs keypoint labels; real photo sets with boxes only have box AP, the COCO people are
+scored on keypoints only.
 
 | test set | keypoint AP | box AP | box AP50 |
 |---|---|---|---|
-$(rows pretrained movenet-wheelchair 0)
+$(rows pretrained movenet-wheelchair 256)
+
+The model this one replaced → this one (ship-model.sh ships only when no real number falls):
+
+| test set | keypoint AP | box AP | box AP50 |
+|---|---|---|---|
+$(rows shipped-now movenet-wheelchair 256)
 
 ## Known limits
 
@@ -152,11 +192,12 @@ default input; scored with \`best.pt\` (float32; the shipped file holds float16)
 |---|---|---|---|
 $(rows pretrained-mirrored ensemble 256)
 
-This model alone (pretrained → it, default input):
+This model alone (pretrained → it; the lexra/wheelchair photos at \`--size 256\`, the rest at
+the default input):
 
 | test set | keypoint AP | box AP | box AP50 |
 |---|---|---|---|
-$(rows pretrained movenet-wheelchair-full 0)
+$(rows pretrained movenet-wheelchair-full 256)
 CARD
 } >"$staging_full/MODEL_CARD.md"
 
