@@ -29,10 +29,17 @@ struct ObjectDraft {
 
 // Garment colours and patterns of one person (the body mesh is split by nearest bone).
 struct Outfit {
-  scene::Material top, bottom, shoes, hair, eyes;
+  scene::Material top, bottom, shoes, hair, eyes;  // hair: the hair's and the eyebrows'
   bool long_sleeves = true;
   bool long_trousers = true;
 };
+
+// Makes `hair` MakeHuman's alpha cards of strands (render/strands.h), `coverage` of each card
+// layer: 150 strands per UV unit are ~2 per cm at the hair proxies' UV scale.
+inline void cut_into_strands(scene::Material& hair, float coverage) {
+  hair.strands_per_uv = 150.0f;
+  hair.strand_coverage = coverage;
+}
 
 struct PersonDraft {
   int pool_slot = 0;  // which person of the current pool

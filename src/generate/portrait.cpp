@@ -44,6 +44,7 @@ cv::Mat render_portrait(const body::BodyData& data, const body::PersonSpec& spec
   person.outfit.bottom = plain(Eigen::Vector3f(0.25f, 0.25f, 0.28f), scene::TextureKind::kFabric);
   person.outfit.shoes = plain(Eigen::Vector3f(0.08f, 0.06f, 0.05f));
   person.outfit.hair = plain(Eigen::Vector3f(0.12f, 0.08f, 0.05f));
+  cut_into_strands(person.outfit.hair, 0.6f);
   person.outfit.eyes = plain(Eigen::Vector3f(0.1f, 0.06f, 0.03f));
   person.rotation = Eigen::AngleAxisf(0.5f, Eigen::Vector3f::UnitY());
   person.placed = true;

@@ -64,6 +64,7 @@ class HumanGeneration final : public Randomizer {
         clothing_(number_or(c, "clothing_probability", 1.0, 0.0, 1.0)),
         hair_(number_or(c, "hair_probability", 0.85, 0.0, 1.0)),
         hat_(number_or(c, "hat_probability", 0.1, 0.0, 1.0)),
+        strand_coverage_(number_or(c, "hair_strand_coverage", 0.6, 0.05, 1.0)),
         excluded_(asset_list(c, "exclude_assets")),
         garment_colours_(garment_colours_of(c)) {
     if (max_count_ < min_count_) c->fail("max_per_frame is below min_per_frame");
@@ -147,6 +148,8 @@ class HumanGeneration final : public Randomizer {
       if (m.age_years > 60 && member.bernoulli(0.6))
         p.outfit.hair.diffuse = Eigen::Vector3f(0.7f, 0.7f, 0.7f);
       p.outfit.hair.specular = 0.15f;
+      if (strand_coverage_ < 1)
+        cut_into_strands(p.outfit.hair, static_cast<float>(strand_coverage_));
       f.people.push_back(std::move(p));
     }
   }
@@ -164,6 +167,7 @@ class HumanGeneration final : public Randomizer {
         {"clothing_probability", clothing_},
         {"hair_probability", hair_},
         {"hat_probability", hat_},
+        {"hair_strand_coverage", strand_coverage_},
         {"garment_colours", garment_colours_ == GarmentColours::kPalette ? "palette" : "uniform"}};
     if (!excluded_.empty()) out["exclude_assets"] = excluded_;  // absent: earlier files unchanged
     return out;
@@ -191,7 +195,7 @@ class HumanGeneration final : public Randomizer {
 
   long long pool_size_, refresh_, min_count_, max_count_;
   ScalarSampler age_, height_, weight_, gender_;
-  double clothing_, hair_, hat_;
+  double clothing_, hair_, hat_, strand_coverage_;
   std::vector<std::string> excluded_;
   GarmentColours garment_colours_;
 };
@@ -218,8 +222,10 @@ extern const RandomizerEntry kHumanGenerationRandomizer = {
     "(0.12) or checks (0.08); `uniform` is the earlier draw, each channel U(0.03, 0.9) with half "
     "the garments striped, checked or mottled (the assets carry no textures); `hair_probability` = "
     "0.85 one of the hair proxies (dark, "
-    "brown, blond or grey; older people greyer), `hat_probability` = 0.1 a hat instead, and "
-    "eyebrows and low-poly eyes (an iris colour: the assets' textures are absent). "
+    "brown, blond or grey; older people greyer) drawn as alpha cards of strands covering "
+    "`hair_strand_coverage` = 0.6 of each card layer (1 = the opaque helmet of earlier versions), "
+    "`hat_probability` = 0.1 a hat instead, and "
+    "eyebrows (strands too) and low-poly eyes (an iris colour: the assets' textures are absent). "
     "`exclude_assets` "
     "(a list such as [hair/bob01, clothes/male_worksuit01]) is never drawn: hold clothes and hair "
     "out of a training set. Without proxies (or with `clothing_probability` 0) the body itself is "

@@ -24,11 +24,27 @@
 #include "render/packet_mask.h"
 #include "render/post.h"
 #include "render/renderer_internal.h"
+#include "render/strands.h"
 #include "render/strata.h"
 
 namespace wheelpose::render {
 
 namespace {
+
+// Embree filter of a hair card's hits: a hit between two strands is no hit, so the ray goes on
+// to the layers and the surfaces behind (render/strands.h).
+void pass_between_strands(const RTCFilterFunctionNArguments* args) {
+  const auto& g = *static_cast<const Renderer::Geometry*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const auto& tri = g.triangles[RTCHitN_primID(args->hit, args->N, i)];
+    const float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
+    const Eigen::Vector2f uv = (1 - u - v) * g.uvs[tri[0]] + u * g.uvs[tri[1]] + v * g.uvs[tri[2]];
+    if (!strand_at(uv.x(), uv.y(), g.strands_per_uv, g.strand_coverage).covered) {
+      args->valid[i] = 0;
+    }
+  }
+}
 
 double ms_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -133,6 +149,15 @@ Renderer::Renderer(const scene::Scene& scene) : scene_(scene) {
     }
     g.normals.reserve(mesh.normals.size());
     for (const auto& n : mesh.normals) g.normals.push_back((normal_matrix * n).normalized());
+    const scene::Material& material = scene_.materials[in.material];
+    if (material.strands_per_uv > 0 && !g.uvs.empty()) {
+      g.strands_per_uv = material.strands_per_uv;
+      g.strand_coverage = material.strand_coverage;
+      // Every query (camera, shadow, bounce and label rays) passes between the strands.
+      rtcSetGeometryUserData(geom, &g);
+      rtcSetGeometryIntersectFilterFunction(geom, pass_between_strands);
+      rtcSetGeometryOccludedFilterFunction(geom, pass_between_strands);
+    }
     rtcCommitGeometry(geom);
     rtcAttachGeometryByID(rtc_scene_, geom, static_cast<unsigned>(i));
     rtcReleaseGeometry(geom);
@@ -287,6 +312,7 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
   lighting.guide.resize(pixels);
   lighting.stream_positions.resize(pixels);
   lighting.light.resize(pixels);
+  lighting.bounce.resize(options.bounce ? pixels : 0);
   lighting.reuse.resize(pixels);
   for (auto& plane : lighting.first_color) plane.resize(pixels);
   const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
@@ -342,6 +368,16 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
   if (options.denoise_radius > 0) {
     denoise_lighting(w, h, lighting.guide, options.denoise_radius, lighting.light,
                      lighting.denoise_scratch);
+  }
+  if (options.bounce) {
+    // The bounce over three times the direct light's window: indirect light varies slowly.
+    const int radius = std::min(3 * options.denoise_radius, RenderOptions::kMaxDenoiseRadius);
+    if (radius > 0) {
+      denoise_lighting(w, h, lighting.guide, radius, lighting.bounce, lighting.denoise_scratch);
+    }
+    for (std::size_t i = 0; i < pixels; ++i) {
+      for (int c = 0; c < 3; ++c) lighting.light[i].diffuse[c] += lighting.bounce[i].diffuse[c];
+    }
   }
   // Radiance = (Σ albedo of the reusing samples ⊙ lighting + their specular + samples lit on
   // their own) / samples taken.

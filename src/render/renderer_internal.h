@@ -35,6 +35,7 @@ struct Renderer::Geometry {
   std::vector<Eigen::Vector2f> uvs;
   std::vector<Eigen::Vector3i> triangles;
   int material = 0;
+  float strands_per_uv = 0.0f, strand_coverage = 1.0f;  // alpha cards (render/strands.h)
   std::uint16_t instance_id = 0;
   std::uint16_t semantic_id = 0;
 };
@@ -54,6 +55,9 @@ struct Renderer::PixelLighting {
   };
   GuidePlanes guide;              // surface, normal and position of sample 0
   std::vector<PixelLight> light;  // point lights and sky, mean over the pixel's light samples
+  // One diffuse bounce (RenderOptions::bounce), kept apart so it can be smoothed over a wider
+  // window: it varies slowly over a surface, and one bounce ray per pixel is noisy.
+  std::vector<PixelLight> bounce;
   std::vector<Reuse> reuse;
   DenoiseScratch denoise_scratch;
   // Per pixel, where its stream stood after pass 1: later passes continue from there.
@@ -233,7 +237,7 @@ class Renderer::TileIntegrator {
   // Per pixel: radiance of samples lit on their own, and the pixel's lighting (see
   // PixelLighting) accumulated over its light samples.
   std::array<Eigen::Vector3f, kPixels> own_, diffuse_, specular_, sun_diffuse_, sun_specular_,
-      albedo_sum_, normal0_, position0_;
+      bounce_, albedo_sum_, normal0_, position0_;
   std::array<int, kPixels> surface0_, light_count_, reuse_count_;
   // The pixels this pass takes, packed into the first lanes (slot = offset in the tile).
   std::array<std::uint8_t, kPixels> slot_{};

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "render/renderer_internal.h"
+#include "render/strands.h"
 #include "scene/scene.h"
 
 namespace wheelpose::render {
@@ -42,6 +43,7 @@ Renderer::TileIntegrator::TileIntegrator(const Renderer& renderer, int tile_x, i
   specular_.fill(Eigen::Vector3f::Zero());
   sun_diffuse_.fill(Eigen::Vector3f::Zero());
   sun_specular_.fill(Eigen::Vector3f::Zero());
+  bounce_.fill(Eigen::Vector3f::Zero());
   albedo_sum_.fill(Eigen::Vector3f::Zero());
   normal0_.fill(Eigen::Vector3f::Zero());
   position0_.fill(Eigen::Vector3f::Zero());
@@ -304,7 +306,7 @@ void Renderer::TileIntegrator::add_bounce(int p, RTCRayHit8& rays, PacketMask va
       const Eigen::Vector3f arriving = second.albedos[k].cwiseProduct(second.to_diffuse[q][k]);
       const int li = p * 8 + k;
       if (primary.into_pixel[k]) {
-        diffuse_[li] += arriving;
+        bounce_[li] += arriving;
       } else {
         own_[li] += primary.albedos[k].cwiseProduct(arriving);
       }
@@ -345,6 +347,8 @@ Renderer::TileIntegrator::SurfacePoint Renderer::TileIntegrator::surface_of(
                               ? uv_footprint(g, tri, rh.ray.tfar[k], n.dot(dir), pixel_angle)
                               : 0.0f;
   Eigen::Vector3f albedo = at.material->diffuse.cwiseProduct(texture.at(uv.x(), uv.y(), footprint));
+  if (g.strands_per_uv > 0)
+    albedo *= strand_at(uv.x(), uv.y(), g.strands_per_uv, g.strand_coverage).shade;
   if (at.material->hue_offset_deg != 0.0f)
     albedo = (r_.hue_rotations_[g.material] * albedo).cwiseMax(0.0f);
   at.albedo = albedo.cwiseMin(1.0f);
@@ -560,6 +564,13 @@ void Renderer::TileIntegrator::store_lighting(PixelLighting& lighting) const {
       light.specular[c] = specular_[li][c] * inv;
       reuse.sun.diffuse[c] = sun_diffuse_[li][c] * inv;
       reuse.sun.specular[c] = sun_specular_[li][c] * inv;
+    }
+    if (!lighting.bounce.empty()) {
+      PixelLight& bounce = lighting.bounce[i];
+      for (int c = 0; c < 3; ++c) {
+        bounce.diffuse[c] = bounce_[li][c] * inv;
+        bounce.specular[c] = 0.0f;
+      }
     }
   }
 }

@@ -75,6 +75,12 @@ struct Material {
   float shininess = 32.0f;  // Blinn–Phong exponent
   Texture texture;
   float hue_offset_deg = 0.0f;  // the paper's HueOffsetRandomizer, applied after texturing
+  // Alpha cards: MakeHuman's hair and eyebrows are layers of cards meant to be drawn with a
+  // strand texture the assets lack. strands_per_uv > 0 draws strands running along the cards'
+  // v, that many per UV unit across u, covering strand_coverage of the card; rays pass through
+  // the rest (render/strands.h). 0 = an opaque surface.
+  float strands_per_uv = 0.0f;
+  float strand_coverage = 0.7f;
   bool operator==(const Material&) const = default;
 };
 

@@ -191,12 +191,17 @@ json scene_to_json(const Scene& s) {
   for (const auto& m : s.meshes) j["meshes"].push_back(mesh_json(m));
   j["materials"] = json::array();
   for (const auto& m : s.materials) {
-    j["materials"].push_back({{"name", m.name},
-                              {"diffuse", to_array<3>(m.diffuse)},
-                              {"specular", m.specular},
-                              {"shininess", m.shininess},
-                              {"hue_offset_deg", m.hue_offset_deg},
-                              {"texture", texture_json(m.texture)}});
+    json material = {{"name", m.name},
+                     {"diffuse", to_array<3>(m.diffuse)},
+                     {"specular", m.specular},
+                     {"shininess", m.shininess},
+                     {"hue_offset_deg", m.hue_offset_deg},
+                     {"texture", texture_json(m.texture)}};
+    if (m.strands_per_uv > 0) {  // keys only when used: opaque materials keep their old text
+      material["strands_per_uv"] = m.strands_per_uv;
+      material["strand_coverage"] = m.strand_coverage;
+    }
+    j["materials"].push_back(std::move(material));
   }
   j["instances"] = json::array();
   for (const auto& i : s.instances) {
@@ -406,13 +411,16 @@ Camera read_camera(const Reader& r) {
 }
 
 Material read_material(const Reader& r) {
-  r.allow({"name", "diffuse", "specular", "shininess", "hue_offset_deg", "texture"});
+  r.allow({"name", "diffuse", "specular", "shininess", "hue_offset_deg", "texture",
+           "strands_per_uv", "strand_coverage"});
   Material m;
   r.read("name", m.name);
   r.read("diffuse", m.diffuse);
   r.read_range("specular", m.specular, 0.0f, 100.0f);
   r.read_range("shininess", m.shininess, 0.0f, 1e5f);
   r.read_range("hue_offset_deg", m.hue_offset_deg, -360.0f, 360.0f);
+  r.read_range("strands_per_uv", m.strands_per_uv, 0.0f, 1e4f);
+  r.read_range("strand_coverage", m.strand_coverage, 0.05f, 1.0f);
   if (r.has("texture")) m.texture = read_texture(r.child("texture"));
   return m;
 }

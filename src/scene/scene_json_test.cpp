@@ -29,6 +29,8 @@ Scene full_scene() {
   m.specular = 0.4f;
   m.shininess = 12.0f;
   m.hue_offset_deg = -33.3f;
+  m.strands_per_uv = 150.0f;
+  m.strand_coverage = 0.45f;
   m.texture.kind = TextureKind::kWood;
   m.texture.scale = 3.3f;
   m.texture.seed = 9;
@@ -146,6 +148,8 @@ TEST(SceneJson, BadInputNamesFileAndPath) {
                "/meshes/0/primitive: unknown primitive");
   expect_error(R"({"meshes": [], "materials": [{}], "instances": [{"mesh": 0}]})",
                "/instances/0/mesh: must be in 0..-1");
+  expect_error(R"({"materials": [{"strands_per_uv": 100, "strand_coverage": 0}]})",
+               "/materials/0/strand_coverage: must be in 0.05 .. 1");
   expect_error(R"({"post": {"vignette": 2}})", "/post/vignette: must be in 0 .. 1");
   expect_error(R"({"post": {"shot_noise": -1}})", "/post/shot_noise: must be in 0 .. 1");
   expect_error(R"({"sun": {"direction": [0, 0, 0]}})",
