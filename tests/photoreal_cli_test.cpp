@@ -94,6 +94,41 @@ TEST(PhotorealCli, PhoneCameraIsRecordedAndShapesTheFile) {
   EXPECT_NE(scenario.dump().find("\"rescale_probability\":1.0"), std::string::npos);
 }
 
+// Outdoor frames are recorded as such; the frames that stay rooms are the same bytes as in a
+// scenario without outdoor frames (the outdoor draws come after every other).
+TEST(PhotorealCli, OutdoorFramesAreRecordedAndRoomsKeepTheirBytes) {
+  const fs::path dir = fresh_temp_dir("photoreal_outdoor");
+  std::string outdoor = kRoomScenario;
+  const std::string rooms_only = "Environment: {room_probability: 1.0}";
+  outdoor.replace(outdoor.find(rooms_only), rooms_only.size(),
+                  "Environment: {room_probability: 1.0, outdoor_probability: 0.5}");
+  const auto run = [&](const std::string& name, const std::string& scenario) {
+    std::ofstream(dir / (name + ".yaml")) << scenario;
+    const auto r = run_wheelpose("generate --config " + (dir / (name + ".yaml")).string() +
+                                 " --out " + (dir / name).string() + " --frames 6 --seed 4");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return json::parse(read_text(dir / name / "annotations.json"));
+  };
+  const json rooms = run("rooms", kRoomScenario);
+  const json mixed = run("mixed", outdoor);
+  int outdoors = 0, kept = 0;
+  for (std::size_t i = 0; i < mixed["images"].size(); ++i) {
+    const std::string file = mixed["images"][i]["file_name"];
+    EXPECT_EQ(rooms["images"][i]["environment"], "room");
+    if (mixed["images"][i]["environment"] == "outdoor") {
+      ++outdoors;
+      continue;
+    }
+    EXPECT_EQ(mixed["images"][i]["environment"], "room");
+    EXPECT_EQ(read_text(dir / "mixed" / "images" / file),
+              read_text(dir / "rooms" / "images" / file))
+        << file;
+    ++kept;
+  }
+  EXPECT_GT(outdoors, 0);
+  EXPECT_GT(kept, 0);
+}
+
 TEST(PhotorealCli, BadValuesNameTheKey) {
   const fs::path dir = fresh_temp_dir("photoreal_bad");
   const struct {
@@ -104,6 +139,8 @@ TEST(PhotorealCli, BadValuesNameTheKey) {
       {"  PhoneCamera: {enabled: true, rescale: 0}\n", "rescale"},
       {"  Texture: {style: plaid}\n", "must be paper or interior, not 'plaid'"},
       {"  HumanGeneration: {garment_colours: neon}\n", "must be palette or uniform, not 'neon'"},
+      {"  HumanGeneration: {hair_strand_coverage: 0}\n", "hair_strand_coverage"},
+      {"  Environment: {outdoor_probability: 1.5}\n", "outdoor_probability"},
   };
   for (const auto& c : cases) {
     const fs::path config = dir / "bad.yaml";

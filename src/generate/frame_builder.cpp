@@ -255,6 +255,11 @@ void add_structure(SceneAssembler& out, const FrameDraft& draft) {
     plane("wall", 40.0f, 40.0f, draft.wall, Vector3f(0, 0, draft.wall_z), about_x(90));
     return;
   }
+  if (draft.room.outdoor) {
+    const float half = kOutdoorGroundSize / 2;
+    plane("ground", half, half, draft.room.floor, Vector3f::Zero(), Eigen::Quaternionf::Identity());
+    return;
+  }
   const float hx = draft.room.size.x() / 2, hz = draft.room.size.y() / 2, h = draft.room.height;
   plane("floor", hx, hz, draft.room.floor, Vector3f::Zero(), Eigen::Quaternionf::Identity());
   plane("ceiling", hx, hz, draft.room.walls, Vector3f(0, h, 0), about_x(180));

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -146,6 +147,36 @@ TEST(FrameBuilder, ObjectsAroundTheRoomCameraAreLeftOut) {
   draft.objects.back().position = Vector3f(-2, 0, 4.0f);  // 0.54 m away: kept
   EXPECT_EQ(object_names(build_frame(draft, body_data(), {}, {})),
             (std::vector<std::string>{"object_1", "object_2"}));
+}
+
+// Outdoors the room's layout stands on open ground: one ground plane to the horizon, no walls
+// or ceiling, the furniture on it as in a room.
+TEST(FrameBuilder, OutdoorFramesHaveGroundAndNoWalls) {
+  FrameDraft draft = room_draft();
+  draft.objects.emplace_back();
+  const auto structure = [](const BuiltFrame& built) {
+    std::vector<std::string> names;
+    for (const scene::Instance& inst : built.scene.instances) {
+      const std::string& n = inst.name;
+      if (n == "floor" || n == "ceiling" || n == "ground" || n.starts_with("wall_"))
+        names.push_back(n);
+    }
+    return names;
+  };
+  const BuiltFrame room = build_frame(draft, body_data(), {}, {});
+  EXPECT_EQ(structure(room), (std::vector<std::string>{"floor", "ceiling", "wall_back",
+                                                       "wall_front", "wall_left", "wall_right"}));
+  draft.room.outdoor = true;
+  const BuiltFrame outdoor = build_frame(draft, body_data(), {}, {});
+  ASSERT_EQ(structure(outdoor), std::vector<std::string>{"ground"});
+  const scene::Instance& ground_instance =
+      *std::find_if(outdoor.scene.instances.begin(), outdoor.scene.instances.end(),
+                    [](const scene::Instance& inst) { return inst.name == "ground"; });
+  const scene::Mesh& ground = outdoor.scene.meshes[ground_instance.mesh];
+  float far = 0;
+  for (const Vector3f& p : ground.positions) far = std::max(far, p.cwiseAbs().maxCoeff());
+  EXPECT_EQ(far, kOutdoorGroundSize / 2);
+  EXPECT_EQ(outdoor.scene.instances.size(), room.scene.instances.size() - 5);
 }
 
 TEST(FrameBuilder, RefusesTooManyPeopleAndUnknownAnchors) {

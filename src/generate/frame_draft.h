@@ -69,7 +69,12 @@ struct RoomDraft {
   Eigen::Vector2f size = Eigen::Vector2f(8.0f, 8.0f);  // floor x, z extent (metres)
   float height = 2.8f;
   scene::Material floor, walls;
+  // Outdoors: the same layout on open ground (kOutdoorGroundSize across) under the sky, with
+  // no walls or ceiling; `floor` is the ground.
+  bool outdoor = false;
 };
+// Metres: wide enough that the ground's far edge sits within half a degree of the sky's horizon.
+inline constexpr float kOutdoorGroundSize = 400.0f;
 
 struct FrameDraft {
   std::int64_t index = 0;  // global frame index

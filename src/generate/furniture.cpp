@@ -55,8 +55,9 @@ FurnitureCatalog::FurnitureCatalog(const std::filesystem::path& archive) : archi
     item.creator = e["creator"];
     item.entry = e["model"][0] == '/' ? e["model"].substr(1) : e["model"];
     try {
-      item.size = Eigen::Vector3f(std::stof(e["width"]), std::stof(e["height"]),
-                                  std::stof(e["depth"])) * 0.01f;
+      item.size =
+          Eigen::Vector3f(std::stof(e["width"]), std::stof(e["height"]), std::stof(e["depth"])) *
+          0.01f;
     } catch (const std::exception&) {
       continue;
     }

@@ -16,7 +16,7 @@
 namespace wheelpose::generate {
 
 struct FurnitureItem {
-  std::string name, category, creator, entry;  // entry: model path inside the archive
+  std::string name, category, creator, entry;      // entry: model path inside the archive
   Eigen::Vector3f size = Eigen::Vector3f::Ones();  // metres: width (x), height (y), depth (z)
 };
 

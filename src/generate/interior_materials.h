@@ -14,5 +14,8 @@ namespace wheelpose::generate {
 scene::Material interior_wall(RandomStream& rng, const std::string& name);
 scene::Material interior_floor(RandomStream& rng, const std::string& name);
 scene::Material interior_furniture(RandomStream& rng, const std::string& name);
+// Open ground `size_m` across (its UVs span it once): asphalt, paving slabs or grass, with
+// patterns at their real size.
+scene::Material outdoor_ground(RandomStream& rng, const std::string& name, float size_m);
 
 }  // namespace wheelpose::generate

@@ -2,11 +2,12 @@
 
 #include "generate/motion_source.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
-#include <tbb/parallel_for.h>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -22,7 +23,8 @@ std::vector<motion::SeatedClip> library_seated_clips() {
   std::vector<motion::SeatedClip> clips(motions.size());
   const motion::MotionOptions options;  // the paper's pipeline, seed 0 as `motion library`
   tbb::parallel_for(std::size_t{0}, motions.size(), [&](std::size_t i) {
-    clips[i] = motion::run_motion_pipeline(motion::library_clip(motions[i].id, options.seed), options);
+    clips[i] =
+        motion::run_motion_pipeline(motion::library_clip(motions[i].id, options.seed), options);
   });
   return clips;
 }
@@ -55,7 +57,8 @@ std::vector<std::string> kept_names(const std::filesystem::path& ranking) {
     throw Error(ranking.string() + ": malformed JSON: " + e.what());
   }
   if (!doc.is_object() || !doc.contains("kept") || !doc["kept"].is_array())
-    throw Error(ranking.string() + ": kept: expected the array written by `wheelpose review filter`");
+    throw Error(ranking.string() +
+                ": kept: expected the array written by `wheelpose review filter`");
   std::vector<std::string> names;
   for (std::size_t i = 0; i < doc["kept"].size(); ++i) {
     const auto& k = doc["kept"][i];
@@ -85,10 +88,10 @@ std::vector<motion::SeatedClip> load_motion_clips(const MotionSource& source) {
   for (const std::string& name : names) {
     const auto it = by_name.find(name);
     if (it == by_name.end()) {
-      throw Error(source.clips_from.string() + ": kept clip '" + name + "' is not among the " +
-                  std::to_string(clips.size()) + " clips of " +
-                  (source.folder.empty() ? std::string("the built-in library")
-                                         : source.folder.string()));
+      throw Error(
+          source.clips_from.string() + ": kept clip '" + name + "' is not among the " +
+          std::to_string(clips.size()) + " clips of " +
+          (source.folder.empty() ? std::string("the built-in library") : source.folder.string()));
     }
     keep.insert(it->second);
   }

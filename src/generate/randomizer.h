@@ -22,7 +22,7 @@ struct RandomizerContext {
   std::vector<std::string> clip_names;
   std::vector<double> clip_durations;  // seconds
   int width = 1280, height = 720;
-  int furniture_count = 0;  // models in the furniture catalog (0 = none installed)
+  int furniture_count = 0;     // models in the furniture catalog (0 = none installed)
   body::ProxyCatalog proxies;  // the MakeHuman clothes, hair, eyebrows and eyes installed
 };
 
@@ -37,7 +37,8 @@ class Randomizer {
 struct RandomizerEntry {
   const char* name;
   // Markdown paragraph(s): what it randomizes, its parameters and their defaults, the paper's
-  // value and where we differ. The randomizer reference in docs/commands/generate.md is generated from these.
+  // value and where we differ. The randomizer reference in docs/commands/generate.md is generated
+  // from these.
   const char* doc;
   bool enabled_by_default;
   // Builds the randomizer from its config section; nullptr = every parameter at its default.

@@ -22,7 +22,8 @@ class BackgroundObjectPlacement final : public Randomizer {
       // Furniture along the walls: the outer 15 % of the room on each side, so the middle
       // stays free for the people.
       const float w = f.room.size.x(), d = f.room.size.y();
-      for (const Eigen::Vector2f& p : poisson_disk(w, d, static_cast<float>(room_separation_), rng)) {
+      for (const Eigen::Vector2f& p :
+           poisson_disk(w, d, static_cast<float>(room_separation_), rng)) {
         const Eigen::Vector2f q = p - Eigen::Vector2f(w / 2, d / 2);
         if (std::abs(q.x()) < 0.35f * w && std::abs(q.y()) < 0.35f * d) continue;
         ObjectDraft o;
@@ -73,7 +74,8 @@ extern const RandomizerEntry kBackgroundObjectPlacementRandomizer = {
     "on the origin, at least `separation` = 2.5 m apart, at depth z ~ `depth` = U(−7.5, 7.5) "
     "(the paper's table; the authors' scene used U(−10, 14), which puts 12 m objects against the "
     "camera). Room layout: furniture on the floor along the walls (the outer 15 % of the room "
-    "on each side), `room_separation` = 1.5 m apart: with `furniture_probability` = 0.85 a CC0 model from Debian "
+    "on each side), `room_separation` = 1.5 m apart: with `furniture_probability` = 0.85 a CC0 "
+    "model from Debian "
     "`sweethome3d-furniture` (BlendSwap-CC-0.sh3f: living room, bedroom, kitchen, office and "
     "bathroom items at their catalogued size), else a box or rounded block.",
     true, [](const ConfigNode* c) -> std::unique_ptr<Randomizer> {

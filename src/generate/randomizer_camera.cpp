@@ -60,12 +60,9 @@ class CameraRandomizer final : public Randomizer {
   }
 
   nlohmann::ordered_json parameters() const override {
-    return {{"field_of_view", fov_.describe()},
-            {"focal_length", focal_.describe()},
-            {"position_offset", offset_.describe()},
-            {"rotation_offset", rotation_.describe()},
-            {"room_field_of_view", room_fov_.describe()},
-            {"room_height", room_height_.describe()}};
+    return {{"field_of_view", fov_.describe()},           {"focal_length", focal_.describe()},
+            {"position_offset", offset_.describe()},      {"rotation_offset", rotation_.describe()},
+            {"room_field_of_view", room_fov_.describe()}, {"room_height", room_height_.describe()}};
   }
 
  private:

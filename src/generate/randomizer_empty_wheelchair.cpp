@@ -25,8 +25,9 @@ class EmptyWheelchair final : public Randomizer {
       chair.seed = rng.next_u64();
       const float heading = static_cast<float>(rng.uniform(0, 2 * M_PI));
       if (f.environment == EnvironmentKind::kRoom) {
-        chair.position = Eigen::Vector3f(static_cast<float>(rng.uniform(-0.35, 0.35)) * f.room.size.x(), 0,
-                                         static_cast<float>(rng.uniform(-0.35, 0.35)) * f.room.size.y());
+        chair.position =
+            Eigen::Vector3f(static_cast<float>(rng.uniform(-0.35, 0.35)) * f.room.size.x(), 0,
+                            static_cast<float>(rng.uniform(-0.35, 0.35)) * f.room.size.y());
         chair.rotation = Eigen::AngleAxisf(heading, Eigen::Vector3f::UnitY());
       } else {
         chair.position = Eigen::Vector3f(static_cast<float>(rng.uniform(-7.5, 7.5)),

@@ -17,7 +17,8 @@ class EnvironmentRandomizer final : public Randomizer {
         room_height_(sampler_or(c, "room_height", ScalarSampler::uniform(2.5, 3.2), 2, 10)),
         sky_(sampler_or(c, "sky_radiance", ScalarSampler::uniform(0.1, 0.4), 0, 10)),
         hdri_probability_(number_or(c, "hdri_probability", 0.0, 0.0, 1.0)),
-        hdri_intensity_(sampler_or(c, "hdri_intensity", ScalarSampler::uniform(0.3, 1.0), 0, 100)) {
+        hdri_intensity_(sampler_or(c, "hdri_intensity", ScalarSampler::uniform(0.3, 1.0), 0, 100)),
+        outdoor_probability_(number_or(c, "outdoor_probability", 0.0, 0.0, 1.0)) {
     const std::string folder =
         c != nullptr ? c->get_string("hdri_folder", kDefaultHdriFolder) : kDefaultHdriFolder;
     std::error_code ec;
@@ -28,13 +29,20 @@ class EnvironmentRandomizer final : public Randomizer {
       }
     }
     std::sort(hdris_.begin(), hdris_.end());  // directory order differs between machines
+    for (const std::string& path : hdris_) {
+      const std::string stem = std::filesystem::path(path).stem().string();
+      if (stem != "interior" && stem != "studio") outdoor_hdris_.push_back(path);
+    }
     // An explicit folder must hold maps; the default one may be absent (no blender-data).
     if (c != nullptr && c->has("hdri_folder") && hdris_.empty())
-      c->child("hdri_folder").fail("no .exr or .hdr files in " + folder + " (install Debian blender-data, or name a folder of HDRIs)");
+      c->child("hdri_folder")
+          .fail("no .exr or .hdr files in " + folder +
+                " (install Debian blender-data, or name a folder of HDRIs)");
   }
 
   void apply(FrameDraft& f, RandomStream& rng, const RandomizerContext&) const override {
-    f.environment = rng.bernoulli(room_probability_) ? EnvironmentKind::kRoom : EnvironmentKind::kWall;
+    f.environment =
+        rng.bernoulli(room_probability_) ? EnvironmentKind::kRoom : EnvironmentKind::kWall;
     f.room.size = Eigen::Vector2f(static_cast<float>(room_width_.sample(rng)),
                                   static_cast<float>(room_depth_.sample(rng)));
     f.room.height = static_cast<float>(room_height_.sample(rng));
@@ -54,6 +62,18 @@ class EnvironmentRandomizer final : public Randomizer {
       sky.rotation_deg = rotation;
       sky.intensity = intensity;
     }
+    // Drawn last and only when asked for, so scenarios without outdoor frames keep every
+    // earlier draw (and their bytes).
+    f.room.outdoor = f.environment == EnvironmentKind::kRoom && outdoor_probability_ > 0 &&
+                     rng.bernoulli(outdoor_probability_);
+    if (f.room.outdoor && !outdoor_hdris_.empty()) {
+      // Outdoors the sky is always a photographed one (blender-data's interior and studio maps
+      // are not skies).
+      const std::int64_t at = rng.uniform_int(0, std::ssize(outdoor_hdris_) - 1);
+      sky.path = outdoor_hdris_[static_cast<std::size_t>(at)];
+      sky.rotation_deg = rotation;
+      sky.intensity = intensity;
+    }
     f.sky = sky;
   }
 
@@ -65,16 +85,19 @@ class EnvironmentRandomizer final : public Randomizer {
             {"sky_radiance", sky_.describe()},
             {"hdri_probability", hdri_probability_},
             {"hdri_intensity", hdri_intensity_.describe()},
+            {"outdoor_probability", outdoor_probability_},
             {"hdris", hdris_}};
   }
 
  private:
   double room_probability_;
-  static constexpr const char* kDefaultHdriFolder = "/usr/share/blender/datafiles/studiolights/world";
+  static constexpr const char* kDefaultHdriFolder =
+      "/usr/share/blender/datafiles/studiolights/world";
   ScalarSampler room_width_, room_depth_, room_height_, sky_;
   double hdri_probability_;
   ScalarSampler hdri_intensity_;
-  std::vector<std::string> hdris_;
+  double outdoor_probability_;
+  std::vector<std::string> hdris_, outdoor_hdris_;
 };
 
 }  // namespace
@@ -94,7 +117,11 @@ extern const RandomizerEntry kEnvironmentRandomizer = {
     "maps of Debian `blender-data`, by Greg Zaal / HDRI Haven, installed by setup; without them "
     "the uniform sky is used), turned U(0, 360)° and scaled by `hdri_intensity` U(0.3, 1.0), "
     "importance-sampled by the renderer; otherwise a uniform sky of `sky_radiance` U(0.1, 0.4) "
-    "relative to the sun's 1. The maps used are recorded in scenario.json. New in WheelPose.",
+    "relative to the sun's 1. The maps used are recorded in scenario.json. With "
+    "`outdoor_probability` (default 0) a room-layout frame is outdoors instead: the same people, "
+    "furniture, lights and camera on open ground (400 m across) with no walls or ceiling, under "
+    "one of the outdoor maps (all but `interior` and `studio`) whenever maps are installed; "
+    "images record `environment: outdoor`. New in WheelPose.",
     true, [](const ConfigNode* c) -> std::unique_ptr<Randomizer> {
       return std::make_unique<EnvironmentRandomizer>(c);
     }};

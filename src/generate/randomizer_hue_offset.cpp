@@ -11,7 +11,8 @@ class HueOffsetRandomizer final : public Randomizer {
       : hue_(sampler_or(c, "hue_offset", ScalarSampler::uniform(-180, 180), -180, 180)) {}
 
   void apply(FrameDraft& f, RandomStream& rng, const RandomizerContext&) const override {
-    for (ObjectDraft& o : f.objects) o.material.hue_offset_deg = static_cast<float>(hue_.sample(rng));
+    for (ObjectDraft& o : f.objects)
+      o.material.hue_offset_deg = static_cast<float>(hue_.sample(rng));
     f.wall.hue_offset_deg = static_cast<float>(hue_.sample(rng));
   }
 

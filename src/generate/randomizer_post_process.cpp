@@ -34,10 +34,14 @@ class PostProcessVolume final : public Randomizer {
   }
 
   nlohmann::ordered_json parameters() const override {
-    return {{"vignette", vignette_.describe()},      {"fixed_exposure", exposure_.describe()},
-            {"white_balance", temperature_.describe()}, {"focus_distance", focus_.describe()},
-            {"lens_blur", blur_.describe()},         {"contrast", contrast_.describe()},
-            {"saturation", saturation_.describe()},  {"bloom", bloom_.describe()},
+    return {{"vignette", vignette_.describe()},
+            {"fixed_exposure", exposure_.describe()},
+            {"white_balance", temperature_.describe()},
+            {"focus_distance", focus_.describe()},
+            {"lens_blur", blur_.describe()},
+            {"contrast", contrast_.describe()},
+            {"saturation", saturation_.describe()},
+            {"bloom", bloom_.describe()},
             {"film_grain", grain_.describe()}};
   }
 

@@ -23,7 +23,8 @@ class SpriteRandomizer final : public Randomizer {
     for (const auto& entry : fs::directory_iterator(directory_)) {
       std::string ext = entry.path().extension().string();
       std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-      if (ext == ".jpg" || ext == ".jpeg" || ext == ".png") images_.push_back(entry.path().string());
+      if (ext == ".jpg" || ext == ".jpeg" || ext == ".png")
+        images_.push_back(entry.path().string());
     }
     std::sort(images_.begin(), images_.end());  // directory order is not stable across machines
     if (images_.empty()) node.fail("no .jpg/.jpeg/.png files in " + directory_);
@@ -31,8 +32,8 @@ class SpriteRandomizer final : public Randomizer {
 
   void apply(FrameDraft& f, RandomStream& rng, const RandomizerContext&) const override {
     if (images_.empty() || !rng.bernoulli(probability_)) return;
-    f.background.image =
-        images_[static_cast<std::size_t>(rng.uniform_int(0, static_cast<std::int64_t>(images_.size()) - 1))];
+    f.background.image = images_[static_cast<std::size_t>(
+        rng.uniform_int(0, static_cast<std::int64_t>(images_.size()) - 1))];
   }
 
   nlohmann::ordered_json parameters() const override {

@@ -18,6 +18,8 @@ class TextureRandomizer final : public Randomizer {
       f.wall = interior_wall(rng, "wall");
       f.room.floor = interior_floor(rng, "floor");
       f.room.walls = interior_wall(rng, "walls");
+      // Drawn after the room's own, so rooms keep their draws.
+      if (f.room.outdoor) f.room.floor = outdoor_ground(rng, "ground", kOutdoorGroundSize);
       return;
     }
     for (std::size_t i = 0; i < f.objects.size(); ++i) {

@@ -23,9 +23,9 @@ class TransformPlacement final : public Randomizer {
       return;
     }
     for (PersonDraft& p : f.people) {
-      p.position = Eigen::Vector3f(static_cast<float>(x_.sample(rng)),
-                                   static_cast<float>(y_.sample(rng)),
-                                   static_cast<float>(z_.sample(rng)));
+      p.position =
+          Eigen::Vector3f(static_cast<float>(x_.sample(rng)), static_cast<float>(y_.sample(rng)),
+                          static_cast<float>(z_.sample(rng)));
       const Eigen::Vector3d deg(rx_.sample(rng), ry_.sample(rng), rz_.sample(rng));
       p.rotation = euler_xyz_extrinsic(deg * (M_PI / 180.0)).cast<float>();
       p.scale = static_cast<float>(size_.sample(rng));
@@ -34,14 +34,10 @@ class TransformPlacement final : public Randomizer {
   }
 
   nlohmann::ordered_json parameters() const override {
-    return {{"x", x_.describe()},
-            {"y", y_.describe()},
-            {"z", z_.describe()},
-            {"rotation_x", rx_.describe()},
-            {"rotation_y", ry_.describe()},
-            {"rotation_z", rz_.describe()},
-            {"size", size_.describe()},
-            {"room_separation", room_separation_}};
+    return {{"x", x_.describe()},           {"y", y_.describe()},
+            {"z", z_.describe()},           {"rotation_x", rx_.describe()},
+            {"rotation_y", ry_.describe()}, {"rotation_z", rz_.describe()},
+            {"size", size_.describe()},     {"room_separation", room_separation_}};
   }
 
  private:
@@ -57,7 +53,8 @@ class TransformPlacement final : public Randomizer {
       for (const ObjectDraft& o : f.objects) {
         const float radius =
             o.furniture >= 0 ? 0.8f : 0.5f * std::max(o.scale.x(), o.scale.z()) * 1.4142f;
-        if ((Eigen::Vector2f(o.position.x(), o.position.z()) - at).norm() < radius + 0.5f) clear = false;
+        if ((Eigen::Vector2f(o.position.x(), o.position.z()) - at).norm() < radius + 0.5f)
+          clear = false;
       }
       if (clear) points.push_back(at);
     }
@@ -65,8 +62,8 @@ class TransformPlacement final : public Randomizer {
     for (std::size_t i = 0; i < f.people.size(); ++i) {
       PersonDraft& p = f.people[i];
       p.position = Eigen::Vector3f(points[i].x(), 0.0f, points[i].y());
-      p.rotation = Eigen::Quaternionf(
-          Eigen::AngleAxisf(static_cast<float>(rng.uniform(0, 2 * M_PI)), Eigen::Vector3f::UnitY()));
+      p.rotation = Eigen::Quaternionf(Eigen::AngleAxisf(
+          static_cast<float>(rng.uniform(0, 2 * M_PI)), Eigen::Vector3f::UnitY()));
       p.scale = 1.0f;
       p.placed = true;
     }

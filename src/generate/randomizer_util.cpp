@@ -80,15 +80,16 @@ std::vector<Eigen::Vector2f> poisson_disk(float width, float height, float separ
   add(Eigen::Vector2f(static_cast<float>(rng.uniform(0, width)),
                       static_cast<float>(rng.uniform(0, height))));
   while (!active.empty()) {
-    const std::size_t pick = static_cast<std::size_t>(
-        rng.uniform_int(0, static_cast<std::int64_t>(active.size()) - 1));
+    const std::size_t pick =
+        static_cast<std::size_t>(rng.uniform_int(0, static_cast<std::int64_t>(active.size()) - 1));
     const Eigen::Vector2f origin = points[active[pick]];
     bool placed = false;
     for (int attempt = 0; attempt < 30; ++attempt) {
       const double angle = rng.uniform(0, 2 * M_PI);
       const double radius = rng.uniform(separation, 2 * separation);
-      const Eigen::Vector2f p = origin + Eigen::Vector2f(static_cast<float>(radius * std::cos(angle)),
-                                                         static_cast<float>(radius * std::sin(angle)));
+      const Eigen::Vector2f p =
+          origin + Eigen::Vector2f(static_cast<float>(radius * std::cos(angle)),
+                                   static_cast<float>(radius * std::sin(angle)));
       if (p.x() < 0 || p.y() < 0 || p.x() >= width || p.y() >= height || !far_enough(p)) continue;
       add(p);
       placed = true;

@@ -242,7 +242,9 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
     for (auto& [key, value] : labels.image.items()) image[key] = value;
     image["frame"] = frame;
     image["seed"] = options.seed;
-    image["environment"] = draft.environment == EnvironmentKind::kRoom ? "room" : "wall";
+    image["environment"] = draft.environment == EnvironmentKind::kWall ? "wall"
+                           : draft.room.outdoor                        ? "outdoor"
+                                                                       : "room";
     image["nominal_focal_length_mm"] = std::round(draft.nominal_focal_length_mm * 1e4) / 1e4;
     for (const auto& [key, value] : draft.image_attributes.items()) image[key] = value;
     ordered_json fragment;
