@@ -141,6 +141,7 @@ TEST(PhotorealCli, BadValuesNameTheKey) {
       {"  HumanGeneration: {garment_colours: neon}\n", "must be palette or uniform, not 'neon'"},
       {"  HumanGeneration: {hair_strand_coverage: 0}\n", "hair_strand_coverage"},
       {"  Environment: {outdoor_probability: 1.5}\n", "outdoor_probability"},
+      {"  Statue: {enabled: true, min_count: 3, max_count: 1}\n", "max_count is below min_count"},
   };
   for (const auto& c : cases) {
     const fs::path config = dir / "bad.yaml";

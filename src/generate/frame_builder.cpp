@@ -203,6 +203,40 @@ void label_person(const body::Person& person, const body::PersonSpec& spec, cons
   label.attributes["assets"] = spec.proxies;
 }
 
+// World = position + rotation · (scale · (p − anchor)), where anchor is the pelvis over the
+// floor (x, z) at floor height 0 in rooms (so the wheels or feet stay on the floor), the pelvis
+// itself in the wall layout.
+Eigen::Affine3f placement(const body::Person& person, const FrameDraft& draft,
+                          const Vector3f& position, const Eigen::Quaternionf& rotation,
+                          float scale) {
+  const Vector3f pelvis = person.joints[motion::kPelvis].cast<float>();
+  const Vector3f anchor(pelvis.x(), draft.environment == EnvironmentKind::kRoom ? 0.0f : pelvis.y(),
+                        pelvis.z());
+  return Eigen::Translation3f(position) * rotation * Eigen::Scaling(scale) *
+         Eigen::Translation3f(-anchor);
+}
+
+// A statue: the posed body in one material, an object to the labels.
+void add_statue(SceneAssembler& out, const FrameDraft& draft, std::size_t i,
+                const body::BodyData& body_data, const std::vector<motion::SeatedClip>& clips) {
+  const StatueDraft& statue = draft.statues[i];
+  body::PersonSpec spec = statue.spec;
+  if (statue.clip >= 0 && static_cast<std::size_t>(statue.clip) < clips.size())
+    spec.pose = clip_pose(clips[statue.clip], statue.time);
+  const body::Person person = body::build_person(body_data, spec);
+  const Eigen::Affine3f to_world =
+      placement(person, draft, statue.position, statue.rotation, statue.scale);
+  const std::string prefix = "statue_" + std::to_string(i + 1);
+  const auto id = static_cast<std::uint16_t>(kStatueIdBase + std::min<std::size_t>(i + 1, 999));
+  for (body::PlacedPart& part : body::place_person(person, body_data.rig(), {}, to_world)) {
+    const std::string name = prefix + "_" + part.name;
+    scene::Material material = statue.material;
+    material.name = name;
+    out.add_instance(name, out.add_mesh(scene_mesh(std::move(part), name)),
+                     out.add_material(material), Eigen::Matrix4f::Identity(), id, kSemanticObject);
+  }
+}
+
 void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
                 const body::BodyData& body_data, const std::vector<motion::SeatedClip>& clips,
                 const std::vector<KeypointAnchor>& anchors, LabelPerson& label) {
@@ -216,12 +250,7 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
         spec.wheelchair != body::WheelchairType::kNone && pushes_the_rims(clip->motion.name);
   }
   const body::Person person = body::build_person(body_data, spec);
-
-  const Vector3f pelvis = person.joints[motion::kPelvis].cast<float>();
-  const Vector3f anchor(pelvis.x(), draft.environment == EnvironmentKind::kRoom ? 0.0f : pelvis.y(),
-                        pelvis.z());
-  const Eigen::Affine3f to_world = Eigen::Translation3f(p.position) * p.rotation *
-                                   Eigen::Scaling(p.scale) * Eigen::Translation3f(-anchor);
+  const Eigen::Affine3f to_world = placement(person, draft, p.position, p.rotation, p.scale);
   const body::DressCode dress{p.outfit.long_sleeves, p.outfit.long_trousers};
   const PartIds ids{static_cast<std::uint16_t>(k + 1),
                     static_cast<std::uint16_t>(kChairIdBase + k + 1),
@@ -372,6 +401,8 @@ BuiltFrame build_frame(const FrameDraft& draft, const body::BodyData& body_data,
     add_parts(out, body::place_wheelchair(chair, to_world),
               "empty_wheelchair_" + std::to_string(i + 1), ids, Outfit{}, std::nullopt);
   }
+  for (std::size_t i = 0; i < draft.statues.size(); ++i)
+    add_statue(out, draft, i, body_data, clips);
   built.people.resize(draft.people.size());
   for (std::size_t k = 0; k < draft.people.size(); ++k)
     add_person(out, draft, k, body_data, clips, anchors, built.people[k]);

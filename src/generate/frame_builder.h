@@ -3,7 +3,7 @@
 // labeler needs: the keypoints of the chosen template in world space and the person's
 // attributes. Instance ids: person k (0-based) → k + 1 for the body and its garments,
 // kChairIdBase + k + 1 for the person's wheelchair, kAidIdBase + k + 1 for their mobility aid;
-// empty wheelchairs, objects and the wall/room take ids from their own bases so a person's
+// empty wheelchairs, objects, statues and the wall/room take ids from their own bases so a person's
 // visible mask is its body alone.
 
 #include <cstdint>
@@ -24,6 +24,7 @@ inline constexpr std::uint16_t kEmptyChairIdBase = 2000;
 inline constexpr std::uint16_t kObjectIdBase = 3000;
 inline constexpr std::uint16_t kStructureIdBase = 4000;
 inline constexpr std::uint16_t kAidIdBase = 5000;
+inline constexpr std::uint16_t kStatueIdBase = 6000;
 inline constexpr int kMaxPeoplePerFrame = 999;
 
 // Semantic classes in the semantic buffer.

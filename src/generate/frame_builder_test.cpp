@@ -179,6 +179,35 @@ TEST(FrameBuilder, OutdoorFramesHaveGroundAndNoWalls) {
   EXPECT_EQ(outdoor.scene.instances.size(), room.scene.instances.size() - 5);
 }
 
+// A statue is a posed body in one material, labelled as an object: the people to label stay
+// the frame's people.
+TEST(FrameBuilder, StatuesAreObjectsOfOneMaterial) {
+  FrameDraft draft = room_draft();
+  const BuiltFrame without = build_frame(draft, body_data(), {}, {});
+  StatueDraft statue;
+  statue.spec = body::sample_spec(7);
+  statue.spec.wheelchair = body::WheelchairType::kNone;
+  statue.position = Vector3f(2.5f, 0, -5);
+  statue.material.diffuse = Vector3f(0.15f, 0.1f, 0.05f);
+  draft.statues.push_back(statue);
+  const BuiltFrame with = build_frame(draft, body_data(), {}, {});
+  EXPECT_EQ(with.people.size(), without.people.size());
+  int parts = 0;
+  float lowest = 1e9f;
+  for (const scene::Instance& inst : with.scene.instances) {
+    if (!inst.name.starts_with("statue_1_")) continue;
+    ++parts;
+    EXPECT_EQ(inst.instance_id, kStatueIdBase + 1);
+    EXPECT_EQ(inst.semantic_id, kSemanticObject);
+    EXPECT_EQ(with.scene.materials[inst.material].diffuse, statue.material.diffuse) << inst.name;
+    for (const Vector3f& p : with.scene.meshes[inst.mesh].positions)
+      lowest = std::min(lowest, p.y());
+  }
+  EXPECT_GT(parts, 0);
+  EXPECT_NEAR(lowest, 0.0f, 0.05f);  // standing on the floor
+  EXPECT_EQ(with.scene.instances.size(), without.scene.instances.size() + parts);
+}
+
 TEST(FrameBuilder, RefusesTooManyPeopleAndUnknownAnchors) {
   FrameDraft draft;
   draft.index = 12;

@@ -65,6 +65,18 @@ struct EmptyChairDraft {
   float scale = 1.0f;
 };
 
+// A statue or a mannequin: a posed body of one material (stone, bronze, plaster), bare and
+// bald, unlabelled: a human shape a model must learn is not a person.
+struct StatueDraft {
+  body::PersonSpec spec;  // standing (WheelchairType::kNone), no proxies
+  int clip = -1;          // index into the motion clips; -1 = the rest pose
+  double time = 0.0;
+  Eigen::Vector3f position = Eigen::Vector3f::Zero();
+  Eigen::Quaternionf rotation = Eigen::Quaternionf::Identity();
+  float scale = 1.0f;
+  scene::Material material;
+};
+
 struct RoomDraft {
   Eigen::Vector2f size = Eigen::Vector2f(8.0f, 8.0f);  // floor x, z extent (metres)
   float height = 2.8f;
@@ -95,6 +107,7 @@ struct FrameDraft {
   std::vector<ObjectDraft> objects;
   std::vector<PersonDraft> people;
   std::vector<EmptyChairDraft> empty_chairs;
+  std::vector<StatueDraft> statues;
   // How the image is written: JPEG quality (0 = the scenario's image.jpeg_quality) and a
   // shrink-and-enlarge factor (1 = none).
   int jpeg_quality = 0;

@@ -74,6 +74,10 @@ class EnvironmentRandomizer final : public Randomizer {
       sky.rotation_deg = rotation;
       sky.intensity = intensity;
     }
+    // Recorded per image when a map lights the frame (`realism` splits by it); frames under
+    // the uniform sky keep their entries as before.
+    if (!sky.path.empty())
+      f.image_attributes["hdri"] = std::filesystem::path(sky.path).stem().string();
     f.sky = sky;
   }
 
@@ -121,7 +125,8 @@ extern const RandomizerEntry kEnvironmentRandomizer = {
     "`outdoor_probability` (default 0) a room-layout frame is outdoors instead: the same people, "
     "furniture, lights and camera on open ground (400 m across) with no walls or ceiling, under "
     "one of the outdoor maps (all but `interior` and `studio`) whenever maps are installed; "
-    "images record `environment: outdoor`. New in WheelPose.",
+    "images record `environment: outdoor`. An image lit by a map records its name (`hdri`). New in "
+    "WheelPose.",
     true, [](const ConfigNode* c) -> std::unique_ptr<Randomizer> {
       return std::make_unique<EnvironmentRandomizer>(c);
     }};

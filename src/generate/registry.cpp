@@ -20,6 +20,7 @@ extern const RandomizerEntry kTransformPlacementRandomizer;
 extern const RandomizerEntry kForegroundObjectPlacementRandomizer;
 extern const RandomizerEntry kForegroundScaleRandomizer;
 extern const RandomizerEntry kEmptyWheelchairRandomizer;
+extern const RandomizerEntry kStatueRandomizer;
 extern const RandomizerEntry kSunAngleRandomizer;
 extern const RandomizerEntry kLightRandomizer;
 extern const RandomizerEntry kLightPositionRotationRandomizer;
@@ -48,6 +49,7 @@ const std::vector<RandomizerEntry>& randomizer_registry() {
       kForegroundObjectPlacementRandomizer,
       kForegroundScaleRandomizer,
       kEmptyWheelchairRandomizer,
+      kStatueRandomizer,
       kSunAngleRandomizer,
       kLightRandomizer,
       kLightPositionRotationRandomizer,
