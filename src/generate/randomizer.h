@@ -63,6 +63,19 @@ double number_or(const ConfigNode* config, const std::string& key, double fallba
 long long integer_or(const ConfigNode* config, const std::string& key, long long fallback,
                      long long min, long long max);
 
+// How many distractors (empty wheelchairs, statues) a frame gets and, in the wall layout, how
+// large: the keys `min_count`, `max_count` and `size` U(0.5, 3).
+struct DistractorCount {
+  DistractorCount(const ConfigNode* config, long long default_max);
+  nlohmann::ordered_json parameters() const;
+  long long min, max;
+  ScalarSampler size;
+};
+
+// A point of the people's volume in the wall layout (TransformPlacement's): x and y
+// U(−7.5, 7.5), z U(−4, 1).
+Eigen::Vector3f people_volume_point(RandomStream& rng);
+
 // A random procedural surface: pattern kind, two colours, scale, seed.
 scene::Material random_material(RandomStream& rng, const std::string& name);
 

@@ -7,15 +7,10 @@ namespace {
 
 class EmptyWheelchair final : public Randomizer {
  public:
-  explicit EmptyWheelchair(const ConfigNode* c)
-      : min_(integer_or(c, "min_count", 0, 0, 1000)),
-        max_(integer_or(c, "max_count", 2, 0, 1000)),
-        size_(sampler_or(c, "size", ScalarSampler::uniform(0.5, 3), 0.01, 100)) {
-    if (max_ < min_) c->fail("max_count is below min_count");
-  }
+  explicit EmptyWheelchair(const ConfigNode* c) : count_(c, 2) {}
 
   void apply(FrameDraft& f, RandomStream& rng, const RandomizerContext&) const override {
-    const std::int64_t n = rng.uniform_int(min_, max_);
+    const std::int64_t n = rng.uniform_int(count_.min, count_.max);
     for (std::int64_t i = 0; i < n; ++i) {
       EmptyChairDraft chair;
       const double u = rng.uniform01();
@@ -30,23 +25,18 @@ class EmptyWheelchair final : public Randomizer {
                             static_cast<float>(rng.uniform(-0.35, 0.35)) * f.room.size.y());
         chair.rotation = Eigen::AngleAxisf(heading, Eigen::Vector3f::UnitY());
       } else {
-        chair.position = Eigen::Vector3f(static_cast<float>(rng.uniform(-7.5, 7.5)),
-                                         static_cast<float>(rng.uniform(-7.5, 7.5)),
-                                         static_cast<float>(rng.uniform(-4, 1)));
+        chair.position = people_volume_point(rng);
         chair.rotation = Eigen::AngleAxisf(heading, Eigen::Vector3f::UnitY());
-        chair.scale = static_cast<float>(size_.sample(rng));
+        chair.scale = static_cast<float>(count_.size.sample(rng));
       }
       f.empty_chairs.push_back(chair);
     }
   }
 
-  nlohmann::ordered_json parameters() const override {
-    return {{"min_count", min_}, {"max_count", max_}, {"size", size_.describe()}};
-  }
+  nlohmann::ordered_json parameters() const override { return count_.parameters(); }
 
  private:
-  long long min_, max_;
-  ScalarSampler size_;
+  DistractorCount count_;
 };
 
 }  // namespace

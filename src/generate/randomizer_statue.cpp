@@ -41,15 +41,10 @@ scene::Material statue_material(RandomStream& rng) {
 
 class Statue final : public Randomizer {
  public:
-  explicit Statue(const ConfigNode* c)
-      : min_(integer_or(c, "min_count", 0, 0, 100)),
-        max_(integer_or(c, "max_count", 1, 0, 100)),
-        size_(sampler_or(c, "size", ScalarSampler::uniform(0.5, 3), 0.01, 100)) {
-    if (max_ < min_) c->fail("max_count is below min_count");
-  }
+  explicit Statue(const ConfigNode* c) : count_(c, 1) {}
 
   void apply(FrameDraft& f, RandomStream& rng, const RandomizerContext& ctx) const override {
-    const std::int64_t n = rng.uniform_int(min_, max_);
+    const std::int64_t n = rng.uniform_int(count_.min, count_.max);
     for (std::int64_t i = 0; i < n; ++i) {
       StatueDraft statue;
       statue.spec = body::sample_spec(rng.next_u64());
@@ -69,22 +64,17 @@ class Statue final : public Randomizer {
             Eigen::Vector3f(side * static_cast<float>(rng.uniform(0.32, 0.42)) * f.room.size.x(), 0,
                             static_cast<float>(rng.uniform(-0.35, 0.35)) * f.room.size.y());
       } else {
-        statue.position = Eigen::Vector3f(static_cast<float>(rng.uniform(-7.5, 7.5)),
-                                          static_cast<float>(rng.uniform(-7.5, 7.5)),
-                                          static_cast<float>(rng.uniform(-4, 1)));
-        statue.scale = static_cast<float>(size_.sample(rng));
+        statue.position = people_volume_point(rng);
+        statue.scale = static_cast<float>(count_.size.sample(rng));
       }
       f.statues.push_back(statue);
     }
   }
 
-  nlohmann::ordered_json parameters() const override {
-    return {{"min_count", min_}, {"max_count", max_}, {"size", size_.describe()}};
-  }
+  nlohmann::ordered_json parameters() const override { return count_.parameters(); }
 
  private:
-  long long min_, max_;
-  ScalarSampler size_;
+  DistractorCount count_;
 };
 
 }  // namespace

@@ -25,6 +25,23 @@ long long integer_or(const ConfigNode* config, const std::string& key, long long
   return config == nullptr ? fallback : config->get_int(key, fallback, min, max);
 }
 
+DistractorCount::DistractorCount(const ConfigNode* config, long long default_max)
+    : min(integer_or(config, "min_count", 0, 0, 1000)),
+      max(integer_or(config, "max_count", default_max, 0, 1000)),
+      size(sampler_or(config, "size", ScalarSampler::uniform(0.5, 3), 0.01, 100)) {
+  if (max < min) config->fail("max_count is below min_count");
+}
+
+nlohmann::ordered_json DistractorCount::parameters() const {
+  return {{"min_count", min}, {"max_count", max}, {"size", size.describe()}};
+}
+
+Eigen::Vector3f people_volume_point(RandomStream& rng) {
+  return Eigen::Vector3f(static_cast<float>(rng.uniform(-7.5, 7.5)),
+                         static_cast<float>(rng.uniform(-7.5, 7.5)),
+                         static_cast<float>(rng.uniform(-4, 1)));
+}
+
 scene::Material random_material(RandomStream& rng, const std::string& name) {
   static const scene::TextureKind kinds[] = {
       scene::TextureKind::kNoise,  scene::TextureKind::kStripes, scene::TextureKind::kChecker,
