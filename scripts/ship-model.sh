@@ -150,8 +150,9 @@ $(rows shipped-now movenet-wheelchair 256)
 ## Known limits
 
 - Trained on renders only; on real photos of wheelchair users it gains little over the
-  pretrained model (see the table), and real boxes drawn around person *and* chair cap
-  every model's box AP at high overlap. On real photos the ensemble of the pretrained model
+  pretrained model, it still loses some of what the pretrained model knew of real people
+  (keypoints, people without wheelchairs: see the table), and real boxes drawn around person
+  *and* chair cap every model's box AP at high overlap. On real photos the ensemble of the pretrained model
   and \`movenet-wheelchair-full\` does better (that model's card).
 - Its boxes are COCO person boxes (the person, not the chair).
 - Not measured: children, crowds of more than 6 people (the model's limit), unusual or
