@@ -8,7 +8,8 @@
 //     the photo-real changes (its photo-real block cut: coloured lights, paper textures, hue
 //     rotation; no bounce), 1 configs/boost-realistic.yaml without its bounce (black-body lights,
 //     interior rooms), 2 configs/boost-realistic-train.yaml (also the phone camera), 3
-//     configs/boost-realistic.yaml as it is (one diffuse bounce); counters ms_per_image and, per
+//     configs/boost-realistic.yaml as it is (one diffuse bounce, hair as strands), 4 the same with
+//     the hair as opaque cards (hair_strand_coverage: 1); counters ms_per_image and, per
 //     stage, the thread time per frame (draft_ms, build_ms, bvh_ms, render_ms, label_ms,
 //     write_ms).
 // Run: build/release/bench/bench_generate
@@ -89,6 +90,10 @@ wheelpose::generate::Scenario realistic_scenario(std::int64_t which) {
   text << std::ifstream(file).rdbuf();
   std::string yaml = text.str();
   if (which == 0) yaml = yaml.substr(0, yaml.find("  # Photo-real light"));
+  if (which == 4) {
+    const std::string people = "  HumanGeneration:\n";
+    yaml.insert(yaml.find(people) + people.size(), "    hair_strand_coverage: 1\n");
+  }
   auto scenario = wheelpose::generate::Scenario::from_config(
       wheelpose::ConfigNode::load_string(yaml, file.string()));
   if (which <= 1) scenario.bounce = false;  // the scenario before the bounce
@@ -120,6 +125,7 @@ BENCHMARK(BM_GenerateRealistic)
     ->Arg(1)
     ->Arg(2)
     ->Arg(3)
+    ->Arg(4)
     ->Iterations(1)
     ->UseManualTime()
     ->Unit(benchmark::kSecond);

@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <map>
 
@@ -104,11 +105,21 @@ scene::Material part_material(const body::PlacedPart& part, const Outfit& outfit
       return outfit.hair;
     case body::Paint::kEyes:
       return outfit.eyes;
-    case body::Paint::kSkin:
-      material.diffuse = part.colour;
+    case body::Paint::kSkin: {
+      // Skin is not one flat colour: a faint blotchy variation, a little redder in places, a
+      // few centimetres across (the body's UVs span about 1.7 m).
+      material.diffuse = Vector3f::Ones();
+      material.texture.kind = scene::TextureKind::kNoise;
+      material.texture.color_a = part.colour.cwiseProduct(Vector3f(1.05f, 0.98f, 0.97f));
+      material.texture.color_b = part.colour.cwiseProduct(Vector3f(0.93f, 0.93f, 0.95f));
+      material.texture.scale = 24.0f;
+      material.texture.seed =
+          StreamKey::mix(std::bit_cast<std::uint32_t>(part.colour.x()) ^
+                         (std::uint64_t{std::bit_cast<std::uint32_t>(part.colour.y())} << 32));
       material.specular = 0.08f;
       material.shininess = 24.0f;
       return material;
+    }
     case body::Paint::kOwnColour:
       break;
   }

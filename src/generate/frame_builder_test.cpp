@@ -50,7 +50,7 @@ TEST(FrameBuilder, InstancesFollowTheIdSchemeAndPartsWearTheirMaterials) {
   const std::vector<KeypointAnchor> anchors = resolve_anchors(load_keypoint_template("coco17"));
   const BuiltFrame built = build_frame(room_draft(), body_data(), {}, anchors);
   const scene::Scene& s = built.scene;
-  int person_parts = 0, aid_parts = 0;
+  int person_parts = 0, aid_parts = 0, skin_parts = 0;
   for (const scene::Instance& inst : s.instances) {
     const std::string& n = inst.name;
     const scene::Material& m = s.materials[static_cast<std::size_t>(inst.material)];
@@ -74,6 +74,14 @@ TEST(FrameBuilder, InstancesFollowTheIdSchemeAndPartsWearTheirMaterials) {
       if (n == "person_1_top") {
         EXPECT_EQ(m.diffuse, Vector3f(0.9f, 0.1f, 0.1f));
       }
+      if (n == "person_1_skin") {  // a faint mottle about the skin colour, redder at one end
+        ++skin_parts;
+        EXPECT_EQ(m.texture.kind, scene::TextureKind::kNoise);
+        const Vector3f ratio = m.texture.color_a.cwiseQuotient(m.texture.color_b);
+        EXPECT_GT(ratio.x(), ratio.z());
+        EXPECT_GT(ratio.minCoeff(), 1.0f);
+        EXPECT_LT(ratio.maxCoeff(), 1.2f);
+      }
     } else if (n.starts_with("empty_wheelchair_1_")) {
       EXPECT_EQ(inst.instance_id, kEmptyChairIdBase + 1) << n;
       EXPECT_EQ(inst.semantic_id, kSemanticWheelchair) << n;
@@ -86,6 +94,7 @@ TEST(FrameBuilder, InstancesFollowTheIdSchemeAndPartsWearTheirMaterials) {
     }
   }
   EXPECT_GE(person_parts, 4);  // at least skin and top for each person
+  EXPECT_EQ(skin_parts, 1);
   EXPECT_GE(aid_parts, 1);
   // Floor, ceiling and four walls.
   EXPECT_EQ(
