@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/random.h"
+#include "render/motion_blur.h"
 #include "render/texture.h"
 
 namespace wheelpose::render {
@@ -99,18 +100,20 @@ float filmic(float x) {
 }  // namespace
 
 cv::Mat apply_post_linear(const cv::Mat& linear, const cv::Mat& depth, const scene::PostProcess& p,
-                          float focus_distance, std::uint64_t seed) {
+                          float focus_distance, std::uint64_t seed, const cv::Mat& motion) {
   CV_Assert(linear.type() == CV_32FC3);
-  cv::Mat img =
-      p.lens_blur > 0 ? lens_blur(linear, depth, p.lens_blur, focus_distance) : linear.clone();
+  // The camera meters the scene before it takes the picture: blur moves light about but does
+  // not change the exposure, so pixels far from a streak keep their values.
+  const float metered =
+      p.auto_exposure_key > 0 ? auto_exposure_gain(linear, p.auto_exposure_key) : 1.0f;
+  cv::Mat img = motion_blur(linear, depth, motion);
+  if (p.lens_blur > 0) img = lens_blur(img, depth, p.lens_blur, focus_distance);
   // Exposure and white balance are one gain per channel. Temperature tilts red against blue,
   // normalised so the luminance of grey stays put.
   const float k = 0.3f * p.temperature / 100.0f;
   cv::Vec3f gain(1 + k, 1, 1 - k);
   gain /= luminance(gain);
-  const float exposure =
-      (p.auto_exposure_key > 0 ? auto_exposure_gain(img, p.auto_exposure_key) : 1.0f) *
-      std::exp2(p.exposure_ev);
+  const float exposure = metered * std::exp2(p.exposure_ev);
   gain *= exposure;
   img.forEach<cv::Vec3f>([&](cv::Vec3f& c, const int*) { c = c.mul(gain); });
   if (p.shot_noise > 0 || p.read_noise > 0) add_sensor_noise(img, p, exposure, seed);
@@ -182,8 +185,8 @@ cv::Mat encode_srgb(const cv::Mat& linear) {
 }
 
 cv::Mat apply_post(const cv::Mat& linear, const cv::Mat& depth, const scene::PostProcess& p,
-                   float focus_distance, std::uint64_t seed) {
-  cv::Mat out = encode_srgb(apply_post_linear(linear, depth, p, focus_distance, seed));
+                   float focus_distance, std::uint64_t seed, const cv::Mat& motion) {
+  cv::Mat out = encode_srgb(apply_post_linear(linear, depth, p, focus_distance, seed, motion));
   if (p.film_grain > 0) {
     // Grain in display space, strongest in the mid-tones. One stream per row (a row is never
     // split between threads), so the result is the same for any thread count.

@@ -149,6 +149,8 @@ Renderer::Renderer(const scene::Scene& scene) : scene_(scene) {
     }
     g.normals.reserve(mesh.normals.size());
     for (const auto& n : mesh.normals) g.normals.push_back((normal_matrix * n).normalized());
+    g.motion.reserve(mesh.motion.size());
+    for (const auto& m : mesh.motion) g.motion.push_back(xf.linear() * m);
     const scene::Material& material = scene_.materials[in.material];
     if (material.strands_per_uv > 0 && !g.uvs.empty()) {
       g.strands_per_uv = material.strands_per_uv;
@@ -303,6 +305,9 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
   out.normals = cv::Mat(h, w, CV_32FC3);
   out.instance = cv::Mat(h, w, CV_16U);
   out.semantic = cv::Mat(h, w, CV_16U);
+  const bool moving = std::any_of(geometries_.begin(), geometries_.end(),
+                                  [](const Geometry& g) { return !g.motion.empty(); });
+  if (moving) out.motion = cv::Mat(h, w, CV_32FC2);
   // The decoupled-shading buffers (≈ 140 MB at 1280×720) come from a pool shared by all
   // renderers: allocating them afresh each frame made the kernel fault in and zero every page.
   static BufferPool<PixelLighting> pool;
@@ -402,7 +407,7 @@ FrameBuffers Renderer::render(const RenderOptions& options) {
 
   const auto post_start = Clock::now();
   out.rgb = options.post ? apply_post(out.linear, out.depth, scene_.post,
-                                      scene_.camera.focus_distance, scene_.seed)
+                                      scene_.camera.focus_distance, scene_.seed, out.motion)
                          : encode_srgb(out.linear);
   timings_.post_ms = ms_since(post_start);
   return out;

@@ -76,6 +76,9 @@ struct FrameBuffers {
   cv::Mat normals;   // CV_32FC3, unit shading normal in camera space, facing the camera; 0 = no hit
   cv::Mat instance;  // CV_16U, Instance::instance_id; 0 = background
   cv::Mat semantic;  // CV_16U, Instance::semantic_id; 0 = background
+  // CV_32FC2, how far the surface seen moves across the image while the shutter is open
+  // (pixels, x right and y down; Mesh::motion projected); empty when nothing in the scene moves.
+  cv::Mat motion;
 };
 
 // Wall-clock milliseconds per phase of the last render (trace and shade are CPU time summed

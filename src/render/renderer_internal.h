@@ -34,6 +34,7 @@ struct Renderer::Geometry {
   std::vector<Eigen::Vector3f> normals;  // world space; empty → geometric normal
   std::vector<Eigen::Vector2f> uvs;
   std::vector<Eigen::Vector3i> triangles;
+  std::vector<Eigen::Vector3f> motion;  // world space, over the open shutter; empty → still
   int material = 0;
   float strands_per_uv = 0.0f, strand_coverage = 1.0f;  // alpha cards (render/strands.h)
   std::uint16_t instance_id = 0;
@@ -171,6 +172,9 @@ class Renderer::TileIntegrator {
   void sample_rays(int s);
   void trace_primary();
   void store_ground_truth(FrameBuffers& out) const;
+  // FrameBuffers::motion of the point `offset` from the camera on triangle `prim` of `g`.
+  Eigen::Vector2f image_motion(const Geometry& g, unsigned prim, float u, float v,
+                               const Eigen::Vector3f& offset) const;
   void shade_packet(int p, int s);
   SurfacePoint surface_at(int p, int k) const;
   // The surface lane k of `rh` hit, for a ray from `origin` along `dir`; `pixel_angle` sizes

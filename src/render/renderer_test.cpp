@@ -42,6 +42,24 @@ TEST(Renderer, DepthOfAPlaneIsItsDistanceEverywhere) {
   }
 }
 
+TEST(Renderer, MotionOfAMovingWallIsItsProjectedTravel) {
+  scene::Scene s = wall_scene(3.0f);
+  EXPECT_TRUE(Renderer(s).render().motion.empty());  // nothing moves: no motion buffer
+  s.meshes[0].motion.assign(s.meshes[0].positions.size(), Eigen::Vector3f(0.1f, -0.05f, 0));
+  Renderer r(s);
+  const FrameBuffers f = r.render();
+  ASSERT_EQ(f.motion.type(), CV_32FC2);
+  // Pinhole focal length in pixels: half the height over tan(half the vertical field of view).
+  const float focal = 24.0f / std::tan(22.5f * std::numbers::pi_v<float> / 180.0f);
+  for (int y = 0; y < f.motion.rows; ++y) {
+    for (int x = 0; x < f.motion.cols; ++x) {
+      const cv::Vec2f m = f.motion.at<cv::Vec2f>(y, x);
+      ASSERT_NEAR(m[0], focal * 0.1f / 3.0f, 1e-3f) << x << "," << y;
+      ASSERT_NEAR(m[1], focal * 0.05f / 3.0f, 1e-3f) << x << "," << y;  // image y points down
+    }
+  }
+}
+
 TEST(Renderer, DepthOfASphereMatchesTheAnalyticIntersection) {
   scene::Scene s = empty_scene(64, 48);
   s.camera.position = Eigen::Vector3f(0.3f, -0.2f, 1.0f);

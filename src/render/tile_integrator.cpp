@@ -181,6 +181,22 @@ void Renderer::TileIntegrator::trace_primary() {
   trace_ns_ += std::chrono::duration<double, std::nano>(Clock::now() - t0).count();
 }
 
+Eigen::Vector2f Renderer::TileIntegrator::image_motion(const Geometry& g, unsigned prim, float u,
+                                                       float v,
+                                                       const Eigen::Vector3f& offset) const {
+  if (g.motion.empty()) return Eigen::Vector2f::Zero();
+  const auto& tri = g.triangles[prim];
+  const Eigen::Vector3f travel =
+      (1 - u - v) * g.motion[tri[0]] + u * g.motion[tri[1]] + v * g.motion[tri[2]];
+  // Where the point is when the shutter opens and when it closes, seen from the camera.
+  const Eigen::Vector3f open = rot_.transpose() * (offset - 0.5f * travel);
+  const Eigen::Vector3f close = rot_.transpose() * (offset + 0.5f * travel);
+  if (open.z() >= -1e-3f || close.z() >= -1e-3f) return Eigen::Vector2f::Zero();
+  const float f = 0.5f * static_cast<float>(h_) / tan_half_;
+  return f * Eigen::Vector2f(close.x() / -close.z() - open.x() / -open.z(),
+                             open.y() / -open.z() - close.y() / -close.z());
+}
+
 // Ground truth from pixel-centre pinhole rays (the sample-0 rays when there is no lens).
 void Renderer::TileIntegrator::store_ground_truth(FrameBuffers& out) const {
   for (int p = 0; p < kPackets; ++p) {
@@ -194,6 +210,7 @@ void Renderer::TileIntegrator::store_ground_truth(FrameBuffers& out) const {
         out.instance.at<std::uint16_t>(y, x) = 0;
         out.semantic.at<std::uint16_t>(y, x) = 0;
         out.normals.at<cv::Vec3f>(y, x) = cv::Vec3f(0, 0, 0);
+        if (!out.motion.empty()) out.motion.at<cv::Vec2f>(y, x) = cv::Vec2f(0, 0);
         continue;
       }
       const Geometry& g = r_.geometries_[rh.hit.geomID[k]];
@@ -213,6 +230,11 @@ void Renderer::TileIntegrator::store_ground_truth(FrameBuffers& out) const {
       if (n.dot(d) > 0) n = -n;
       const Eigen::Vector3f nc = rot_.transpose() * n;
       out.normals.at<cv::Vec3f>(y, x) = cv::Vec3f(nc.x(), nc.y(), nc.z());
+      if (!out.motion.empty()) {
+        const Eigen::Vector2f m =
+            image_motion(g, rh.hit.primID[k], rh.hit.u[k], rh.hit.v[k], rh.ray.tfar[k] * d);
+        out.motion.at<cv::Vec2f>(y, x) = cv::Vec2f(m.x(), m.y());
+      }
     }
   }
 }

@@ -30,6 +30,9 @@ struct Mesh {
   std::vector<Eigen::Vector3f> normals;    // per vertex, unit length; empty → flat face normals
   std::vector<Eigen::Vector2f> uvs;        // per vertex; empty → (0, 0)
   std::vector<Eigen::Vector3i> triangles;  // counter-clockwise seen from the front
+  // Per vertex, how far it travels while the shutter is open (metres, in the mesh's frame),
+  // centred on the instant the positions show; empty → still. Drives motion blur.
+  std::vector<Eigen::Vector3f> motion;
   std::optional<PrimitiveSpec> primitive;  // set when the arrays came from a primitive
   bool operator==(const Mesh&) const = default;
 };

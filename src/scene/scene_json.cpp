@@ -157,8 +157,10 @@ json mesh_json(const Mesh& m) {
                       {"segments", m.primitive->segments}};
     return j;
   }
-  json p = json::array(), n = json::array(), uv = json::array(), t = json::array();
+  json p = json::array(), n = json::array(), uv = json::array(), t = json::array(),
+       motion = json::array();
   for (const auto& v : m.positions) p.push_back(to_array<3>(v));
+  for (const auto& v : m.motion) motion.push_back(to_array<3>(v));
   for (const auto& v : m.normals) n.push_back(to_array<3>(v));
   for (const auto& v : m.uvs) uv.push_back(to_array<2>(v));
   for (const auto& v : m.triangles) t.push_back({v.x(), v.y(), v.z()});
@@ -166,6 +168,7 @@ json mesh_json(const Mesh& m) {
   if (!m.normals.empty()) j["normals"] = n;
   if (!m.uvs.empty()) j["uvs"] = uv;
   j["triangles"] = t;
+  if (!m.motion.empty()) j["motion"] = motion;
   return j;
 }
 
@@ -294,7 +297,7 @@ Texture read_texture(const Reader& r) {
 }
 
 Mesh read_mesh(const Reader& r) {
-  r.allow({"name", "primitive", "positions", "normals", "uvs", "triangles"});
+  r.allow({"name", "primitive", "positions", "normals", "uvs", "triangles", "motion"});
   std::string name;
   r.read("name", name);
   Mesh m;
@@ -329,6 +332,8 @@ Mesh read_mesh(const Reader& r) {
   read_list("normals", m.normals,
             [&](const json& v, const std::string& p) { return r.vec<3>(v, p); });
   read_list("uvs", m.uvs, [&](const json& v, const std::string& p) { return r.vec<2>(v, p); });
+  read_list("motion", m.motion,
+            [&](const json& v, const std::string& p) { return r.vec<3>(v, p); });
   const int count = static_cast<int>(m.positions.size());
   read_list("triangles", m.triangles, [&](const json& v, const std::string& p) {
     if (!v.is_array() || v.size() != 3) r.fail_at(p, "expected 3 vertex indices");
@@ -348,6 +353,9 @@ Mesh read_mesh(const Reader& r) {
   }
   if (!m.uvs.empty() && m.uvs.size() != m.positions.size()) {
     r.fail_at(r.at("uvs"), "needs one uv per position");
+  }
+  if (!m.motion.empty() && m.motion.size() != m.positions.size()) {
+    r.fail_at(r.at("motion"), "needs one motion vector per position");
   }
   return m;
 }

@@ -22,6 +22,7 @@ Scene full_scene() {
   tri.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
   tri.uvs = {{0, 0}, {1, 0}, {0, 1.0f / 3.0f}};
   tri.triangles = {{0, 1, 2}};
+  tri.motion = {{0.01f, 0, 0}, {0, -0.02f, 0}, {0, 0, 1.0f / 7.0f}};
   s.meshes.push_back(tri);
   Material m;
   m.name = "wood";
@@ -144,6 +145,9 @@ TEST(SceneJson, BadInputNamesFileAndPath) {
                "/materials/0/diffuse: expected an array of 3");
   expect_error(R"({"meshes": [{"positions": [[0,0,0]], "triangles": [[0, 1, 0]]}]})",
                "/meshes/0/triangles/0/1: vertex index out of range");
+  expect_error(
+      R"({"meshes": [{"positions": [[0,0,0]], "triangles": [], "motion": [[0,0,0], [1,0,0]]}]})",
+      "/meshes/0/motion: needs one motion vector per position");
   expect_error(R"({"meshes": [{"primitive": {"type": "torus"}}]})",
                "/meshes/0/primitive: unknown primitive");
   expect_error(R"({"meshes": [], "materials": [{}], "instances": [{"mesh": 0}]})",
