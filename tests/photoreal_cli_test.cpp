@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <string>
 
 #include "cli_runner.h"
@@ -129,6 +131,59 @@ TEST(PhotorealCli, OutdoorFramesAreRecordedAndRoomsKeepTheirBytes) {
   EXPECT_GT(kept, 0);
 }
 
+// Motion blur: the same frames with the shutter open 0.1 s differ only around people (their
+// streaks reach at most 32 px either side, a JPEG block beyond), and the labels are the same.
+TEST(PhotorealCli, AnOpenShutterBlursOnlyAroundPeopleAndKeepsTheLabels) {
+  const fs::path dir = fresh_temp_dir("photoreal_shutter");
+  const auto run = [&](const std::string& name, const std::string& shutter) {
+    const fs::path config = dir / (name + ".yaml");
+    std::ofstream(config) << "image: {width: 320, height: 240, spp: 1}\n"
+                          << "randomizers:\n"
+                          << "  Environment: {room_probability: 1.0}\n"
+                          << "  HumanGeneration: {min_per_frame: 2, max_per_frame: 2}\n"
+                          << "  PostProcessVolume: {enabled: false}\n"
+                          << "  PhoneCamera: {enabled: true, shot_noise: 0, read_noise: 0, "
+                          << "rescale_probability: 0, jpeg_quality: 95, shutter: " << shutter
+                          << "}\n";
+    const auto r = run_wheelpose("generate --config " + config.string() + " --out " +
+                                 (dir / name).string() + " --frames 3 --seed 8");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return json::parse(read_text(dir / name / "annotations.json"));
+  };
+  const json still = run("still", "0");
+  const json blurred = run("blurred", "0.1");
+  ASSERT_EQ(blurred["annotations"].size(), still["annotations"].size());
+  for (std::size_t a = 0; a < still["annotations"].size(); ++a) {
+    EXPECT_EQ(blurred["annotations"][a]["keypoints"], still["annotations"][a]["keypoints"]);
+    EXPECT_EQ(blurred["annotations"][a]["bbox"], still["annotations"][a]["bbox"]);
+  }
+  int changed = 0;
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(blurred["images"][i]["phone_camera"]["shutter"], 0.1);
+    const std::string file = still["images"][i]["file_name"];
+    const cv::Mat a = cv::imread((dir / "still" / "images" / file).string());
+    const cv::Mat b = cv::imread((dir / "blurred" / "images" / file).string());
+    ASSERT_FALSE(a.empty());
+    ASSERT_EQ(a.size(), b.size());
+    cv::Mat near_people = cv::Mat::zeros(a.size(), CV_8U);
+    for (const json& ann : still["annotations"]) {
+      if (ann["image_id"] != still["images"][i]["id"]) continue;
+      const auto box = ann["bbox_amodal"].get<std::vector<double>>();
+      const int reach = 32 + 32;  // the streak, and a chair or JPEG block beyond the body
+      cv::Rect around(static_cast<int>(box[0]) - reach, static_cast<int>(box[1]) - reach,
+                      static_cast<int>(box[2]) + 2 * reach, static_cast<int>(box[3]) + 2 * reach);
+      near_people(around & cv::Rect(0, 0, a.cols, a.rows)).setTo(255);
+    }
+    cv::Mat difference, differ;
+    cv::absdiff(a, b, difference);
+    cv::transform(difference, differ, cv::Matx13f(1, 1, 1));
+    changed += cv::countNonZero(differ);
+    const cv::Mat far_from_people = differ & ~near_people;
+    EXPECT_EQ(cv::countNonZero(far_from_people), 0) << file;
+  }
+  EXPECT_GT(changed, 50) << "people in clips move during a 0.1 s shutter";
+}
+
 TEST(PhotorealCli, BadValuesNameTheKey) {
   const fs::path dir = fresh_temp_dir("photoreal_bad");
   const struct {
@@ -137,6 +192,7 @@ TEST(PhotorealCli, BadValuesNameTheKey) {
       {"  Light: {color_temperature: {uniform: [1000, 6500]}}\n", "color_temperature"},
       {"  PhoneCamera: {enabled: true, jpeg_quality: 101}\n", "jpeg_quality"},
       {"  PhoneCamera: {enabled: true, rescale: 0}\n", "rescale"},
+      {"  PhoneCamera: {enabled: true, shutter: 0.5}\n", "shutter"},
       {"  Texture: {style: plaid}\n", "must be paper or interior, not 'plaid'"},
       {"  HumanGeneration: {garment_colours: neon}\n", "must be palette or uniform, not 'neon'"},
       {"  HumanGeneration: {hair_strand_coverage: 0}\n", "hair_strand_coverage"},

@@ -120,6 +120,13 @@ scene::Material part_material(const body::PlacedPart& part, const Outfit& outfit
       material.shininess = 24.0f;
       return material;
     }
+    case body::Paint::kLips:
+      // Lips are the skin's colour, redder and a little darker (less melanin over more blood),
+      // and moist: a tighter highlight.
+      material.diffuse = part.colour.cwiseProduct(Vector3f(0.92f, 0.62f, 0.64f));
+      material.specular = 0.15f;
+      material.shininess = 48.0f;
+      return material;
     case body::Paint::kOwnColour:
       break;
   }
@@ -142,11 +149,14 @@ struct PartIds {
   std::uint16_t body = 0, wheelchair = 0, aid = 0;
 };
 
-// Each part as an instance of its own mesh and material, named `prefix`_`part name`.
+// Each part as an instance of its own mesh and material, named `prefix`_`part name`; `motions`
+// (one per part, or none) become the meshes' Mesh::motion.
 void add_parts(SceneAssembler& out, std::vector<body::PlacedPart> parts, const std::string& prefix,
                const PartIds& ids, const Outfit& outfit,
-               const std::optional<std::array<Vector3f, 4>>& chair_colours) {
-  for (body::PlacedPart& part : parts) {
+               const std::optional<std::array<Vector3f, 4>>& chair_colours,
+               std::vector<std::vector<Vector3f>> motions = {}) {
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    body::PlacedPart& part = parts[i];
     const std::string name = prefix + "_" + part.name;
     scene::Material material = part_material(part, outfit, chair_colours);
     material.name = name;
@@ -158,8 +168,10 @@ void add_parts(SceneAssembler& out, std::vector<body::PlacedPart> parts, const s
       id = ids.aid;
       semantic = kSemanticMobilityAid;
     }
-    out.add_instance(name, out.add_mesh(scene_mesh(std::move(part), name)),
-                     out.add_material(material), Eigen::Matrix4f::Identity(), id, semantic);
+    scene::Mesh mesh = scene_mesh(std::move(part), name);
+    if (i < motions.size()) mesh.motion = std::move(motions[i]);
+    out.add_instance(name, out.add_mesh(std::move(mesh)), out.add_material(material),
+                     Eigen::Matrix4f::Identity(), id, semantic);
   }
 }
 
@@ -173,11 +185,43 @@ bool pushes_the_rims(const std::string& clip) {
   return false;
 }
 
-motion::PoseRotations clip_pose(const motion::SeatedClip& clip, double time) {
+// The clip's frame shown at `time` (seconds).
+std::size_t clip_frame(const motion::SeatedClip& clip, double time) {
   const std::size_t count = clip.motion.frame_count();
   const double f = std::floor(time * clip.motion.fps);
-  const std::size_t frame = f <= 0 ? 0 : std::min(count - 1, static_cast<std::size_t>(f));
-  return motion::global_rotations(clip.motion, frame);
+  return f <= 0 ? 0 : std::min(count - 1, static_cast<std::size_t>(f));
+}
+
+motion::PoseRotations clip_pose(const motion::SeatedClip& clip, double time) {
+  return motion::global_rotations(clip.motion, clip_frame(clip, time));
+}
+
+// How far each vertex of `parts` travels while the shutter is open: the clip's motion from the
+// shown frame to the next (the previous one to it at the clip's end), scaled to the shutter
+// time. A part whose mesh differs between the frames stays still.
+std::vector<std::vector<Vector3f>> part_motions(const std::vector<body::PlacedPart>& parts,
+                                                const body::BodyData& body_data,
+                                                body::PersonSpec spec,
+                                                const motion::SeatedClip& clip, double time,
+                                                float shutter, const body::DressCode& dress,
+                                                const Eigen::Affine3f& to_world) {
+  const std::size_t frame = clip_frame(clip, time);
+  if (clip.motion.frame_count() < 2 || shutter <= 0) return {};
+  const bool last = frame + 1 >= clip.motion.frame_count();
+  spec.pose = motion::global_rotations(clip.motion, last ? frame - 1 : frame + 1);
+  const std::vector<body::PlacedPart> other =
+      body::place_person(body::build_person(body_data, spec), body_data.rig(), dress, to_world);
+  // Positions per second × the shutter; stepping back to the previous frame flips the sign.
+  const float scale = static_cast<float>(shutter * clip.motion.fps) * (last ? -1.0f : 1.0f);
+  std::vector<std::vector<Vector3f>> motions(parts.size());
+  for (std::size_t i = 0; i < parts.size() && i < other.size(); ++i) {
+    const auto& now = parts[i].positions;
+    const auto& then = other[i].positions;
+    if (other[i].name != parts[i].name || then.size() != now.size()) continue;
+    motions[i].resize(now.size());
+    for (std::size_t v = 0; v < now.size(); ++v) motions[i][v] = (then[v] - now[v]) * scale;
+  }
+  return motions;
 }
 
 // The person's keypoints in the world and the attributes its annotation records.
@@ -266,8 +310,13 @@ void add_person(SceneAssembler& out, const FrameDraft& draft, std::size_t k,
   const PartIds ids{static_cast<std::uint16_t>(k + 1),
                     static_cast<std::uint16_t>(kChairIdBase + k + 1),
                     static_cast<std::uint16_t>(kAidIdBase + k + 1)};
-  add_parts(out, body::place_person(person, body_data.rig(), dress, to_world),
-            "person_" + std::to_string(k + 1), ids, p.outfit, p.chair_colours);
+  std::vector<body::PlacedPart> parts =
+      body::place_person(person, body_data.rig(), dress, to_world);
+  std::vector<std::vector<Vector3f>> motions;
+  if (clip != nullptr && draft.shutter > 0)
+    motions = part_motions(parts, body_data, spec, *clip, p.time, draft.shutter, dress, to_world);
+  add_parts(out, std::move(parts), "person_" + std::to_string(k + 1), ids, p.outfit,
+            p.chair_colours, std::move(motions));
   label_person(person, spec, p, clip, to_world, anchors, ids.body, label);
 }
 

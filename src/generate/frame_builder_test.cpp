@@ -7,6 +7,8 @@
 #include <string>
 
 #include "core/error.h"
+#include "motion/library.h"
+#include "motion/pipeline.h"
 
 namespace wheelpose::generate {
 namespace {
@@ -215,6 +217,55 @@ TEST(FrameBuilder, StatuesAreObjectsOfOneMaterial) {
   EXPECT_GT(parts, 0);
   EXPECT_NEAR(lowest, 0.0f, 0.05f);  // standing on the floor
   EXPECT_EQ(with.scene.instances.size(), without.scene.instances.size() + parts);
+}
+
+TEST(FrameBuilder, AnOpenShutterMovesPeopleAlongTheirClipAndKeepsTheLabels) {
+  const std::vector<motion::SeatedClip> clips = {
+      motion::run_motion_pipeline(motion::library_clip("clap_hands", 1), {})};
+  const std::vector<KeypointAnchor> anchors = resolve_anchors(load_keypoint_template("coco17"));
+  const double fps = clips[0].motion.fps;
+  FrameDraft draft = room_draft();
+  draft.people[0].clip = 0;
+  draft.people[0].time = 30.3 / fps;  // frame 30
+  const BuiltFrame instant = build_frame(draft, body_data(), clips, anchors);
+  draft.shutter = 0.02f;
+  const BuiltFrame open = build_frame(draft, body_data(), clips, anchors);
+  draft.shutter = 0;
+  draft.people[0].time = 31.3 / fps;  // frame 31
+  const BuiltFrame next = build_frame(draft, body_data(), clips, anchors);
+
+  // Labels and geometry are those of the instant: only the streaks are new.
+  ASSERT_EQ(open.people.size(), instant.people.size());
+  for (std::size_t k = 0; k < open.people.size(); ++k)
+    EXPECT_EQ(open.people[k].keypoints, instant.people[k].keypoints);
+  ASSERT_EQ(open.scene.meshes.size(), instant.scene.meshes.size());
+  // Each wrist's nearest skin vertex travels about as the wrist does from frame 30 to 31,
+  // scaled to the shutter (a vertex a few centimetres from the joint turns with the hand).
+  const scene::Mesh* skin = nullptr;
+  for (std::size_t i = 0; i < open.scene.meshes.size(); ++i) {
+    const scene::Mesh& mesh = open.scene.meshes[i];
+    EXPECT_EQ(mesh.positions, instant.scene.meshes[i].positions) << mesh.name;
+    if (mesh.name == "person_1_skin") skin = &mesh;
+    if (!mesh.name.starts_with("person_1_")) {
+      EXPECT_TRUE(mesh.motion.empty()) << mesh.name;
+    }
+  }
+  ASSERT_NE(skin, nullptr);
+  ASSERT_EQ(skin->motion.size(), skin->positions.size());
+  for (const int wrist : {9, 10}) {
+    const Vector3f joint = instant.people[0].keypoints[wrist];
+    const Vector3f travel =
+        (next.people[0].keypoints[wrist] - joint) * static_cast<float>(0.02 * fps);
+    std::size_t nearest = 0;
+    for (std::size_t v = 1; v < skin->positions.size(); ++v) {
+      if ((skin->positions[v] - joint).norm() < (skin->positions[nearest] - joint).norm())
+        nearest = v;
+    }
+    EXPECT_GT(travel.norm(), 0.002f) << "the clip's wrist " << wrist << " should move";
+    EXPECT_LT((skin->motion[nearest] - travel).norm(), 0.3f * travel.norm() + 0.002f)
+        << "wrist " << wrist << ": " << skin->motion[nearest].transpose() << " against "
+        << travel.transpose();
+  }
 }
 
 TEST(FrameBuilder, RefusesTooManyPeopleAndUnknownAnchors) {

@@ -112,6 +112,9 @@ struct FrameDraft {
   // shrink-and-enlarge factor (1 = none).
   int jpeg_quality = 0;
   float rescale = 1.0f;
+  // How long the shutter stays open (seconds; 0 = an instant): people moving in their clips
+  // leave streaks (motion blur) centred on the labelled instant.
+  float shutter = 0.0f;
   // Drawn values a randomizer records in the image's COCO entry (realism splits by them).
   nlohmann::ordered_json image_attributes = nlohmann::ordered_json::object();
 };
