@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <set>
 
 #include "body/assets.h"
@@ -25,6 +26,36 @@ const std::array<const char*, kCocoCount>& coco_names() {
 }
 
 namespace {
+
+// The lips' base-mesh vertices from the default rig's weights (see BodyData::lip_vertices).
+std::vector<int> load_lip_vertices(const fs::path& weights_path, std::size_t vertex_count) {
+  const auto json = nlohmann::json::parse(read_asset(weights_path), nullptr, false);
+  if (json.is_discarded() || !json.contains("weights") || !json["weights"].is_object()) {
+    throw Error(weights_path.string() + ": no 'weights' object");
+  }
+  std::vector<float> weight(vertex_count, 0.0f);
+  for (const auto& [bone, list] : json["weights"].items()) {
+    if (!bone.starts_with("oris")) continue;
+    try {
+      for (const auto& entry : list) {
+        const auto v = entry.at(0).get<std::int64_t>();
+        if (v < 0 || static_cast<std::size_t>(v) >= vertex_count) {
+          throw Error(weights_path.string() + ": bone '" + bone + "' weights vertex " +
+                      std::to_string(v) + ", beyond the base mesh");
+        }
+        weight[static_cast<std::size_t>(v)] += entry.at(1).get<float>();
+      }
+    } catch (const nlohmann::json::exception& e) {
+      throw Error(weights_path.string() + ": bone '" + bone + "': " + e.what());
+    }
+  }
+  std::vector<int> lips;
+  for (std::size_t v = 0; v < vertex_count; ++v) {
+    if (weight[v] >= 0.5f) lips.push_back(static_cast<int>(v));
+  }
+  if (lips.empty()) throw Error(weights_path.string() + ": no orbicularis oris (oris*) weights");
+  return lips;
+}
 
 Eigen::Vector3f group_mean(const BaseMesh& base, const std::string& group) {
   const auto it = base.group_vertices.find(group);
@@ -72,6 +103,7 @@ BodyData::BodyData(const fs::path& assets_root)
   face_[3] = {ear_l};
   face_[4] = {ear_r};
   (void)eye_r;
+  lips_ = load_lip_vertices(model_.root() / "rigs" / "default_weights.mhw", base.vertices.size());
 }
 
 PersonSpec sample_spec(std::uint64_t seed) {
@@ -292,6 +324,12 @@ void add_cut_body(const BodyData& data, const PersonSpec& spec,
     person.base_vertex.push_back(-1);
     std::vector<unsigned>& rim = person.cap_rims.emplace_back();
     for (unsigned v : cut.cap_rims[c]) rim.push_back(remap[v]);
+  }
+  const std::vector<int>& lips = data.lip_vertices();
+  person.lips.resize(person.base_vertex.size(), 0);
+  for (std::size_t v = 0; v < person.base_vertex.size(); ++v) {
+    const int base = person.base_vertex[v];
+    person.lips[v] = base >= 0 && std::binary_search(lips.begin(), lips.end(), base) ? 1 : 0;
   }
   person.triangles.reserve(cut.triangles.size());
   auto hidden = [&](unsigned local) { return local < body.size() && covered[body[local]]; };

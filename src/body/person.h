@@ -37,6 +37,9 @@ class BodyData {
   const std::vector<std::array<unsigned, 3>>& body_triangles() const { return triangles_; }
   // Head-mesh landmarks: base-mesh vertex sets whose mean is the keypoint.
   const std::array<std::vector<int>, 5>& face_landmarks() const { return face_; }
+  // Base-mesh vertices of the lips: those the default MakeHuman rig's orbicularis oris bones
+  // (oris*) move with a summed weight of at least one half. Ascending.
+  const std::vector<int>& lip_vertices() const { return lips_; }
 
  private:
   HumanModel model_;
@@ -45,6 +48,7 @@ class BodyData {
   std::vector<int> body_vertices_;
   std::vector<std::array<unsigned, 3>> triangles_;
   std::array<std::vector<int>, 5> face_;
+  std::vector<int> lips_;
 };
 
 struct PersonSpec {
@@ -97,6 +101,7 @@ struct Person {
   // rest_vertices with it gives `vertices` (cap centres: the mean of their rims).
   RigPose pose;
   std::vector<int> base_vertex;  // per vertex: its base-mesh vertex, -1 for a cap centre
+  std::vector<char> lips;        // per vertex: 1 on the lips (BodyData::lip_vertices)
   // Per cap centre (they follow the body's vertices, in order): the vertices it is the mean of.
   std::vector<std::vector<unsigned>> cap_rims;
   motion::Pose joints;                           // our 23 joints on the posed body

@@ -11,7 +11,7 @@ namespace {
 using Eigen::Vector3f;
 
 // The outfit region around each rig bone; the numbering is the order regions are emitted.
-enum Region { kSkin = 0, kTop = 1, kBottom = 2, kShoes = 3 };
+enum Region { kSkin = 0, kTop = 1, kBottom = 2, kShoes = 3, kLips = 4 };
 
 Region region_of_bone(const std::string& bone, const DressCode& dress) {
   if (bone.starts_with("head") || bone.starts_with("neck") || bone.starts_with("hand") ||
@@ -105,12 +105,15 @@ void add_body_regions(const Person& person, const Rig& rig, const DressCode& dre
       std::any_of(person.garments.begin(), person.garments.end(), [](const Garment& g) {
         return g.name.find("shoes") == std::string::npos && is_suit(g.name);
       });
-  const std::vector<Region> region = suited
-                                         ? std::vector<Region>(person.rest_vertices.size(), kSkin)
-                                         : vertex_regions(person, rig, dress);
-  static const char* kRegionNames[] = {"skin", "top", "bottom", "shoes"};
-  static const Paint kRegionPaint[] = {Paint::kSkin, Paint::kTop, Paint::kBottom, Paint::kShoes};
-  for (int r = kSkin; r <= kShoes; ++r) {
+  std::vector<Region> region = suited ? std::vector<Region>(person.rest_vertices.size(), kSkin)
+                                      : vertex_regions(person, rig, dress);
+  for (std::size_t v = 0; v < region.size() && v < person.lips.size(); ++v) {
+    if (person.lips[v]) region[v] = kLips;
+  }
+  static const char* kRegionNames[] = {"skin", "top", "bottom", "shoes", "lips"};
+  static const Paint kRegionPaint[] = {Paint::kSkin, Paint::kTop, Paint::kBottom, Paint::kShoes,
+                                       Paint::kLips};
+  for (int r = kSkin; r <= kLips; ++r) {
     PlacedPart part = cut_part(world, normals, person.rest_vertices, person.triangles,
                                [&](int v) { return region[v] == r; });
     part.name = kRegionNames[r];

@@ -24,7 +24,7 @@ struct DressCode {
 
 // What colours a part: the person's skin, one of the outfit's colours, or the part's own
 // (a wheelchair's or mobility aid's colour).
-enum class Paint { kSkin, kTop, kBottom, kShoes, kHair, kEyes, kOwnColour };
+enum class Paint { kSkin, kLips, kTop, kBottom, kShoes, kHair, kEyes, kOwnColour };
 enum class PartOwner { kBody, kWheelchair, kMobilityAid };
 
 struct PlacedPart {

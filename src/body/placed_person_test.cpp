@@ -22,7 +22,8 @@ const PlacedPart* find_part(const std::vector<PlacedPart>& parts, const std::str
 std::size_t body_triangles(const std::vector<PlacedPart>& parts) {
   std::size_t n = 0;
   for (const PlacedPart& p : parts) {
-    if (p.name == "skin" || p.name == "top" || p.name == "bottom" || p.name == "shoes") {
+    if (p.name == "skin" || p.name == "top" || p.name == "bottom" || p.name == "shoes" ||
+        p.name == "lips") {
       n += p.triangles.size();
     }
   }
@@ -32,6 +33,33 @@ std::size_t body_triangles(const std::vector<PlacedPart>& parts) {
 Eigen::Affine3f placement() {
   return Eigen::Affine3f(Eigen::Translation3f(1.0f, 0.0f, -4.0f) *
                          Eigen::AngleAxisf(0.6f, Vector3f::UnitY()) * Eigen::Scaling(1.1f));
+}
+
+// The lips are a small region of the face, around the mouth: below the nose, above the chin,
+// in front of the ears, a few hundred triangles, as wide as a mouth.
+TEST(PlacedPerson, LipsAreTheirOwnPartAroundTheMouth) {
+  PersonSpec spec = sample_spec(11);
+  spec.wheelchair = WheelchairType::kNone;
+  const Person person = build_person(body_data(), spec);
+  const std::vector<PlacedPart> parts =
+      place_person(person, body_data().rig(), {}, Eigen::Affine3f::Identity());
+  const PlacedPart* lips = find_part(parts, "lips");
+  ASSERT_NE(lips, nullptr);
+  EXPECT_EQ(lips->paint, Paint::kLips);
+  EXPECT_EQ(lips->colour, person.skin);
+  EXPECT_GT(lips->triangles.size(), 100u);
+  EXPECT_LT(lips->triangles.size(), 1500u);
+  Eigen::AlignedBox3f box;
+  for (const Vector3f& p : lips->positions) box.extend(p);
+  const Vector3f nose = person.coco[0];
+  const Vector3f ear_mid = 0.5f * (person.coco[3] + person.coco[4]);
+  const Vector3f forward = (nose - ear_mid).normalized();
+  EXPECT_LT(box.max().y(), nose.y());                       // below the nose tip
+  EXPECT_GT(box.min().y(), nose.y() - 0.09f);               // above the chin
+  EXPECT_GT((box.center() - ear_mid).dot(forward), 0.06f);  // at the front of the face
+  const float width = box.sizes().maxCoeff();
+  EXPECT_GT(width, 0.03f);
+  EXPECT_LT(width, 0.09f);
 }
 
 TEST(PlacedPerson, BodyRegionsSplitTheBodyAndAreCarriedIntoTheWorld) {
@@ -113,7 +141,9 @@ TEST(PlacedPerson, SleevesTrousersAndSuitsDecideWhatShowsSkin) {
   EXPECT_EQ(find_part(parts, "top"), nullptr);
   EXPECT_EQ(find_part(parts, "bottom"), nullptr);
   ASSERT_NE(find_part(parts, "skin"), nullptr);
-  EXPECT_EQ(find_part(parts, "skin")->triangles.size(), suited.triangles.size());
+  ASSERT_NE(find_part(parts, "lips"), nullptr);  // a suit leaves the lips their own
+  EXPECT_EQ(find_part(parts, "skin")->triangles.size() + find_part(parts, "lips")->triangles.size(),
+            suited.triangles.size());
   EXPECT_EQ(find_part(parts, "male_casualsuit01"), nullptr);
   const PlacedPart* top = find_part(parts, "male_casualsuit01_top");
   const PlacedPart* bottom = find_part(parts, "male_casualsuit01_bottom");
