@@ -160,7 +160,16 @@ FrameLabels label_frame(const BuiltFrame& frame, const render::FrameBuffers& buf
     nlohmann::ordered_json a;
     a["category_id"] = 1;
     a["iscrowd"] = 0;
-    a["bbox"] = box_json(box);
+    cv::Rect held = box;
+    bool seated = false;
+    if (options.box_holds_wheelchair) {
+      const cv::Mat chair =
+          buffers.instance == static_cast<double>(kChairIdBase + person.instance_id);
+      seated = cv::countNonZero(chair) > 0;
+      if (seated) held |= cv::boundingRect(chair);
+    }
+    a["bbox"] = box_json(held);
+    if (seated) a["bbox_person"] = box_json(box);
     a["area"] = pixels;
     if (options.segmentation) a["segmentation"] = polygons(mask);
     a["num_keypoints"] = labelled;

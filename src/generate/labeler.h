@@ -18,6 +18,10 @@ namespace wheelpose::generate {
 struct LabelOptions {
   int min_visible_pixels = 50;  // people with fewer visible mask pixels are not labelled
   bool segmentation = true;     // polygon outlines of the visible mask
+  // A seated person's `bbox` is the box around their visible pixels and their wheelchair's
+  // (the convention of detection sets that find wheelchair users, such as lexra/wheelchair's);
+  // the person's own box is kept as `bbox_person`.
+  bool box_holds_wheelchair = false;
 };
 
 struct FrameLabels {

@@ -113,5 +113,25 @@ TEST(Labeler, AVisibleKeypointOutsideTheMaskWidensTheBoxAndOptionsApply) {
   EXPECT_EQ(label_frame(fx.frame, fx.buffers, options).dropped_people, 2);
 }
 
+TEST(Labeler, ABoxHoldingTheWheelchairSpansPersonAndChair) {
+  Fixture fx;
+  fx.buffers.instance(cv::Rect(26, 26, 14, 10)).setTo(kChairIdBase + 1);  // below and left
+  fx.buffers.instance(cv::Rect(28, 20, 10, 6)).setTo(1);  // the chair covers the mask's foot
+  const auto person_only = label_frame(fx.frame, fx.buffers, LabelOptions{}).annotations[0];
+  EXPECT_EQ(person_only["bbox"], nlohmann::ordered_json::array({28, 20, 10, 6}));
+  EXPECT_FALSE(person_only.contains("bbox_person"));
+  LabelOptions options;
+  options.box_holds_wheelchair = true;
+  const auto held = label_frame(fx.frame, fx.buffers, options).annotations[0];
+  EXPECT_EQ(held["bbox"], nlohmann::ordered_json::array({26, 20, 14, 16}));
+  EXPECT_EQ(held["bbox_person"], person_only["bbox"]);
+  EXPECT_EQ(held["area"], person_only["area"]);  // the person's own pixels
+  // A person without a chair in sight keeps their own box.
+  fx.buffers.instance.setTo(0, fx.buffers.instance == kChairIdBase + 1);
+  const auto standing = label_frame(fx.frame, fx.buffers, options).annotations[0];
+  EXPECT_EQ(standing["bbox"], person_only["bbox"]);
+  EXPECT_FALSE(standing.contains("bbox_person"));
+}
+
 }  // namespace
 }  // namespace wheelpose::generate

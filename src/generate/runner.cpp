@@ -198,7 +198,8 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
   std::mutex progress_mutex;
   if (progress) progress(done, total);
 
-  const LabelOptions label_options{scenario.min_visible_pixels, scenario.segmentation};
+  const LabelOptions label_options{scenario.min_visible_pixels, scenario.segmentation,
+                                   scenario.box_holds_wheelchair};
   enum Stage { kDraft, kBuild, kBvh, kRender, kLabel, kWrite, kStages };
   std::array<std::atomic<double>, kStages> stage_ms{};
   tbb::parallel_for(std::size_t{0}, pending.size(), std::size_t{1}, [&](std::size_t i) {

@@ -67,6 +67,10 @@ Scenario Scenario::from_config(const ConfigNode& root) {
         static_cast<int>(labels->get_int("min_visible_pixels", s.min_visible_pixels, 1, 1LL << 30));
     s.segmentation = labels->get_bool("segmentation", s.segmentation);
     s.ground_truth_maps = labels->get_bool("ground_truth_maps", s.ground_truth_maps);
+    const std::string box = labels->get_string("box", "person");
+    if (box != "person" && box != "person_and_wheelchair")
+      labels->fail("box: '" + box + "' is not person or person_and_wheelchair");
+    s.box_holds_wheelchair = box == "person_and_wheelchair";
     try {
       resolve_template(s);
     } catch (const Error& e) {
@@ -129,6 +133,8 @@ nlohmann::ordered_json Scenario::to_json() const {
                  {"min_visible_pixels", min_visible_pixels},
                  {"segmentation", segmentation},
                  {"ground_truth_maps", ground_truth_maps}};
+  // Written only when not the default, so the scenarios of earlier runs read back unchanged.
+  if (box_holds_wheelchair) j["labels"]["box"] = "person_and_wheelchair";
   nlohmann::ordered_json r = nlohmann::ordered_json::object();
   for (const Active& a : randomizers) r[a.entry->name] = a.randomizer->parameters();
   j["randomizers"] = std::move(r);

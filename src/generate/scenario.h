@@ -4,7 +4,7 @@
 //
 //   image: {width, height, spp, light_samples, denoise_radius, adaptive_contrast, jpeg_quality,
 //           bounce}
-//   labels: {keypoint_template, min_visible_pixels, segmentation, ground_truth_maps}
+//   labels: {keypoint_template, min_visible_pixels, segmentation, ground_truth_maps, box}
 //   randomizers: {<Name>: {enabled: bool, <parameter>: <value or distribution>, ...}}
 //
 // Unknown sections, randomizers and keys are errors naming file:line:key.
@@ -35,6 +35,8 @@ struct Scenario {
   int min_visible_pixels = 50;
   bool segmentation = true;
   bool ground_truth_maps = false;  // depth/normal/instance/semantic PNGs per frame
+  // A seated person's `bbox` holds their wheelchair too (LabelOptions::box_holds_wheelchair).
+  bool box_holds_wheelchair = false;
 
   struct Active {
     const RandomizerEntry* entry;

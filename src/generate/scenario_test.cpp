@@ -56,10 +56,25 @@ TEST(Scenario, ErrorsNameFileLineAndKey) {
   EXPECT_NE(message("image: {bounce: sometimes}\n").find("bounce"), std::string::npos);
   EXPECT_NE(message("labels: {keypoint_template: nothing.json}\n").find("keypoint_template"),
             std::string::npos);
+  EXPECT_NE(message("labels: {box: chair}\n").find("s.yaml:1"), std::string::npos);
+  EXPECT_NE(message("labels: {box: chair}\n").find("'chair' is not person"), std::string::npos);
   EXPECT_NE(message("colour: red\n").find("colour"), std::string::npos);
   EXPECT_NE(message("randomizers:\n  HumanGeneration: {min_per_frame: 9, max_per_frame: 3}\n")
                 .find("max_per_frame"),
             std::string::npos);
+}
+
+// labels.box reaches the labeler's options through the runner and the record; the default is
+// not written, so earlier runs' scenarios read back the same.
+TEST(Scenario, BoxConventionIsRecordedOnlyWhenItHoldsTheWheelchair) {
+  const Scenario held = Scenario::from_config(
+      ConfigNode::load_string("labels: {box: person_and_wheelchair}\n", "b.yaml"));
+  EXPECT_TRUE(held.box_holds_wheelchair);
+  EXPECT_EQ(held.to_json()["labels"]["box"], "person_and_wheelchair");
+  const std::string recorded = "labels: " + held.to_json()["labels"].dump() + "\n";
+  EXPECT_TRUE(Scenario::from_config(ConfigNode::load_string(recorded, "r")).box_holds_wheelchair);
+  EXPECT_FALSE(Scenario::defaults().box_holds_wheelchair);
+  EXPECT_FALSE(Scenario::defaults().to_json()["labels"].contains("box"));
 }
 
 // image.bounce reaches the renderer and the recorded scenario; off (the default) it is not
