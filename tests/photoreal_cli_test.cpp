@@ -131,6 +131,32 @@ TEST(PhotorealCli, OutdoorFramesAreRecordedAndRoomsKeepTheirBytes) {
   EXPECT_GT(kept, 0);
 }
 
+// Coats on hangers in every room: the catalogue is recorded (only when they are drawn) and they
+// show in the frames.
+TEST(PhotorealCli, HangingClothesAreDrawnInRoomsAndRecorded) {
+  const fs::path dir = fresh_temp_dir("photoreal_clothes");
+  const auto run = [&](const std::string& name, const std::string& scenario) {
+    std::ofstream(dir / (name + ".yaml")) << scenario;
+    const auto r = run_wheelpose("generate --config " + (dir / (name + ".yaml")).string() +
+                                 " --out " + (dir / name).string() + " --frames 4 --seed 6");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return json::parse(read_text(dir / name / "scenario.json"));
+  };
+  const json plain = run("plain", kRoomScenario);
+  const json clothes =
+      run("clothes", std::string(kRoomScenario) +
+                         "  HangingClothes: {enabled: true, min_count: 2, max_count: 2}\n");
+  EXPECT_FALSE(plain.contains("hanging_clothes"));
+  if (clothes["hanging_clothes"]["models"] == 0) GTEST_SKIP() << "KatorLegaz.sh3f not installed";
+  EXPECT_EQ(clothes["hanging_clothes"]["models"], 2);
+  int differ = 0;
+  for (const auto& file : fs::directory_iterator(dir / "plain" / "images")) {
+    differ +=
+        read_text(file.path()) != read_text(dir / "clothes" / "images" / file.path().filename());
+  }
+  EXPECT_GT(differ, 0);
+}
+
 // Motion blur: the same frames with the shutter open 0.1 s differ only around people (their
 // streaks reach at most 32 px either side, a JPEG block beyond), and the labels are the same.
 TEST(PhotorealCli, AnOpenShutterBlursOnlyAroundPeopleAndKeepsTheLabels) {
@@ -198,6 +224,8 @@ TEST(PhotorealCli, BadValuesNameTheKey) {
       {"  HumanGeneration: {hair_strand_coverage: 0}\n", "hair_strand_coverage"},
       {"  Environment: {outdoor_probability: 1.5}\n", "outdoor_probability"},
       {"  Statue: {enabled: true, min_count: 3, max_count: 1}\n", "max_count is below min_count"},
+      {"  HangingClothes: {enabled: true, min_count: 2, max_count: 1}\n",
+       "max_count is below min_count"},
   };
   for (const auto& c : cases) {
     const fs::path config = dir / "bad.yaml";

@@ -432,8 +432,10 @@ BuiltFrame build_frame(const FrameDraft& draft, const body::BodyData& body_data,
     const bool model = o.furniture >= 0 && furniture != nullptr &&
                        static_cast<std::size_t>(o.furniture) < furniture->items().size();
     // In rooms objects stand on the floor (unit shapes span y in [-0.5, 0.5], models [0, h]).
-    if (draft.environment == EnvironmentKind::kRoom)
-      o.position.y() = model ? 0.0f : 0.5f * o.scale.y();
+    if (draft.environment == EnvironmentKind::kRoom) {
+      o.position.y() = model ? furniture->items()[static_cast<std::size_t>(o.furniture)].elevation
+                             : 0.5f * o.scale.y();
+    }
     const int mesh = model ? out.furniture_mesh(*furniture, static_cast<std::size_t>(o.furniture))
                            : out.primitive_mesh(object_spec(o.shape));
     const Eigen::Matrix4f transform = trs(o.position, o.rotation, o.scale);

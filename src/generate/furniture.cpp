@@ -3,6 +3,7 @@
 #include "generate/furniture.h"
 
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "body/assets.h"
@@ -18,17 +19,12 @@ bool indoor(const std::string& category) {
   return false;
 }
 
-}  // namespace
-
-std::filesystem::path FurnitureCatalog::default_archive() {
-  return "/usr/share/sweethome3d/furniture/BlendSwap-CC-0.sh3f";
-}
-
-FurnitureCatalog::FurnitureCatalog(const std::filesystem::path& archive) : archive_(archive) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(archive, ec)) return;
-  // key#N=value lines; one catalog entry per N.
+// An archive's catalog entries: key#N=value lines, one entry per N; none when it is absent.
+std::map<int, std::map<std::string, std::string>> catalog_entries(
+    const std::filesystem::path& archive) {
   std::map<int, std::map<std::string, std::string>> entries;
+  std::error_code ec;
+  if (archive.empty() || !std::filesystem::is_regular_file(archive, ec)) return entries;
   std::istringstream in(body::read_zip_entry(archive, "PluginFurnitureCatalog.properties"));
   std::string line;
   while (std::getline(in, line)) {
@@ -44,36 +40,75 @@ FurnitureCatalog::FurnitureCatalog(const std::filesystem::path& archive) : archi
       continue;  // not an entry key
     }
   }
-  for (auto& [index, e] : entries) {
-    if (!indoor(e["category"]) || e["doorOrWindow"] == "true" || e.count("modelRotation") ||
-        e["model"].empty()) {
-      continue;
-    }
-    FurnitureItem item;
-    item.name = e["name"];
-    item.category = e["category"];
-    item.creator = e["creator"];
-    item.entry = e["model"][0] == '/' ? e["model"].substr(1) : e["model"];
+  return entries;
+}
+
+// The entry as an item (centimetres to metres); none without a model or a usable size.
+std::optional<FurnitureItem> catalog_item(std::map<std::string, std::string>& e,
+                                          const std::filesystem::path& archive) {
+  if (e["model"].empty() || e.count("modelRotation")) return std::nullopt;
+  FurnitureItem item;
+  item.name = e["name"];
+  item.category = e["category"];
+  item.creator = e["creator"];
+  item.entry = e["model"][0] == '/' ? e["model"].substr(1) : e["model"];
+  item.archive = archive;
+  try {
+    item.size =
+        Eigen::Vector3f(std::stof(e["width"]), std::stof(e["height"]), std::stof(e["depth"])) *
+        0.01f;
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  if (item.size.maxCoeff() < 0.3f || item.size.maxCoeff() > 2.5f || item.size.minCoeff() <= 0)
+    return std::nullopt;
+  return item;
+}
+
+}  // namespace
+
+FurnitureCatalog::FurnitureCatalog(const std::filesystem::path& archive,
+                                   const std::filesystem::path& clothes_archive)
+    : archive_(archive) {
+  for (auto& [index, e] : catalog_entries(archive)) {
+    if (!indoor(e["category"]) || e["doorOrWindow"] == "true") continue;
+    if (auto item = catalog_item(e, archive)) items_.push_back(std::move(*item));
+  }
+  furniture_count_ = static_cast<int>(items_.size());
+  for (auto& [index, e] : catalog_entries(clothes_archive)) {
+    if (e["name"] != "Hanging clothes") continue;
+    auto item = catalog_item(e, clothes_archive);
+    if (!item) continue;
     try {
-      item.size =
-          Eigen::Vector3f(std::stof(e["width"]), std::stof(e["height"]), std::stof(e["depth"])) *
-          0.01f;
+      item->elevation = e.count("elevation") ? std::stof(e["elevation"]) * 0.01f : 0.0f;
     } catch (const std::exception&) {
       continue;
     }
-    if (item.size.maxCoeff() < 0.3f || item.size.maxCoeff() > 2.5f || item.size.minCoeff() <= 0)
-      continue;
-    items_.push_back(std::move(item));
+    items_.push_back(std::move(*item));
   }
   meshes_.resize(items_.size());
+}
+
+std::filesystem::path FurnitureCatalog::default_archive() {
+  return "/usr/share/sweethome3d/furniture/BlendSwap-CC-0.sh3f";
+}
+
+std::filesystem::path FurnitureCatalog::default_clothes_archive() {
+  return "/usr/share/sweethome3d/furniture/KatorLegaz.sh3f";
+}
+
+std::vector<int> FurnitureCatalog::hanging_clothes() const {
+  std::vector<int> out;
+  for (int i = furniture_count_; i < static_cast<int>(items_.size()); ++i) out.push_back(i);
+  return out;
 }
 
 const body::TriMesh& FurnitureCatalog::mesh(std::size_t i) const {
   std::lock_guard<std::mutex> lock(mutex_);
   if (meshes_.at(i)) return *meshes_[i];
   const FurnitureItem& item = items_[i];
-  body::TriMesh m = body::parse_obj_mesh(body::read_zip_entry(archive_, item.entry),
-                                         archive_.string() + ": " + item.entry);
+  body::TriMesh m = body::parse_obj_mesh(body::read_zip_entry(item.archive, item.entry),
+                                         item.archive.string() + ": " + item.entry);
   Eigen::Vector3f lo = m.vertices[0], hi = m.vertices[0];
   for (const auto& v : m.vertices) {
     lo = lo.cwiseMin(v);

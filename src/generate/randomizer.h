@@ -22,8 +22,9 @@ struct RandomizerContext {
   std::vector<std::string> clip_names;
   std::vector<double> clip_durations;  // seconds
   int width = 1280, height = 720;
-  int furniture_count = 0;     // models in the furniture catalog (0 = none installed)
-  body::ProxyCatalog proxies;  // the MakeHuman clothes, hair, eyebrows and eyes installed
+  int furniture_count = 0;           // models in the furniture catalog (0 = none installed)
+  std::vector<int> hanging_clothes;  // catalog indices of the hanging clothes (none: absent)
+  body::ProxyCatalog proxies;        // the MakeHuman clothes, hair, eyebrows and eyes installed
 };
 
 class Randomizer {

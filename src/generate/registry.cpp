@@ -21,6 +21,7 @@ extern const RandomizerEntry kForegroundObjectPlacementRandomizer;
 extern const RandomizerEntry kForegroundScaleRandomizer;
 extern const RandomizerEntry kEmptyWheelchairRandomizer;
 extern const RandomizerEntry kStatueRandomizer;
+extern const RandomizerEntry kHangingClothesRandomizer;
 extern const RandomizerEntry kSunAngleRandomizer;
 extern const RandomizerEntry kLightRandomizer;
 extern const RandomizerEntry kLightPositionRotationRandomizer;
@@ -50,6 +51,7 @@ const std::vector<RandomizerEntry>& randomizer_registry() {
       kForegroundScaleRandomizer,
       kEmptyWheelchairRandomizer,
       kStatueRandomizer,
+      kHangingClothesRandomizer,
       kSunAngleRandomizer,
       kLightRandomizer,
       kLightPositionRotationRandomizer,

@@ -5,6 +5,7 @@
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -12,6 +13,7 @@
 #include <mutex>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <string_view>
 
 #include "body/assets.h"
 #include "body/person.h"
@@ -147,7 +149,8 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
   const std::vector<motion::SeatedClip> clips = load_motion_clips(options.motions);
   const std::filesystem::path assets = body::locate_assets(options.assets);
   const body::BodyData body_data(assets);
-  const FurnitureCatalog furniture(FurnitureCatalog::default_archive());
+  const FurnitureCatalog furniture(FurnitureCatalog::default_archive(),
+                                   FurnitureCatalog::default_clothes_archive());
 
   const fs::path out = options.out;
   ensure_directory(out / "images");
@@ -157,7 +160,15 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
 
   ordered_json record = provenance(scenario, options, clips);
   record["furniture"] = {{"archive", furniture.archive().string()},
-                         {"models", furniture.items().size()}};
+                         {"models", furniture.furniture_count()}};
+  // Recorded only when drawn, so the records of runs without them read back the same.
+  if (std::any_of(scenario.randomizers.begin(), scenario.randomizers.end(),
+                  [](const Scenario::Active& a) {
+                    return std::string_view(a.entry->name) == "HangingClothes";
+                  })) {
+    record["hanging_clothes"] = {{"archive", FurnitureCatalog::default_clothes_archive().string()},
+                                 {"models", furniture.hanging_clothes().size()}};
+  }
   const body::ProxyCatalog proxies = body::ProxyCatalog::scan(assets / "makehuman");
   record["proxies"] = {{"clothes", proxies.male_suits.size() + proxies.female_suits.size() +
                                        proxies.shoes.size() + proxies.hats.size()},
@@ -175,7 +186,8 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
   RandomizerContext context;
   context.width = scenario.width;
   context.height = scenario.height;
-  context.furniture_count = static_cast<int>(furniture.items().size());
+  context.furniture_count = furniture.furniture_count();
+  context.hanging_clothes = furniture.hanging_clothes();
   context.proxies = proxies;
   for (const auto& c : clips) {
     context.clip_names.push_back(c.motion.name);
