@@ -4,12 +4,15 @@
 //   BM_GeneratePeakRss/N: N frames at 320x180, 1 spp; counter peak_rss_mb (VmHWM of the run,
 //     reset before it; registered first so no larger frame's buffers are resident yet; a flat
 //     figure means memory does not grow with the frame count).
-//   BM_GenerateRealistic/{0,1,2,3}: 48 frames of the realistic scenario side by side — 0 before
+//   BM_GenerateRealistic/{0,…,5}: 48 frames of the realistic scenario side by side — 0 before
 //     the photo-real changes (its photo-real block cut: coloured lights, paper textures, hue
 //     rotation; no bounce), 1 configs/boost-realistic.yaml without its bounce (black-body lights,
 //     interior rooms), 2 configs/boost-realistic-train.yaml (also the phone camera), 3
 //     configs/boost-realistic.yaml as it is (one diffuse bounce, hair as strands), 4 the same with
-//     the hair as opaque cards (hair_strand_coverage: 1); counters ms_per_image and, per
+//     the hair as opaque cards (hair_strand_coverage: 1), 5 boost-realistic-train.yaml with the
+//     shutter closed (PhoneCamera.shutter: 0, no motion blur; 2 against 5 is the blur's cost:
+//     each person in a clip built twice, the streak buffer and the filter); counters
+//     ms_per_image and, per
 //     stage, the thread time per frame (draft_ms, build_ms, bvh_ms, render_ms, label_ms,
 //     write_ms).
 // Run: build/release/bench/bench_generate
@@ -85,11 +88,15 @@ void BM_GeneratePaperPreset(benchmark::State& state) {
 wheelpose::generate::Scenario realistic_scenario(std::int64_t which) {
   const fs::path configs = fs::path(WHEELPOSE_SOURCE_DIR) / "configs";
   const fs::path file =
-      configs / (which == 2 ? "boost-realistic-train.yaml" : "boost-realistic.yaml");
+      configs / (which == 2 || which == 5 ? "boost-realistic-train.yaml" : "boost-realistic.yaml");
   std::ostringstream text;
   text << std::ifstream(file).rdbuf();
   std::string yaml = text.str();
   if (which == 0) yaml = yaml.substr(0, yaml.find("  # Photo-real light"));
+  if (which == 5) {
+    const std::string phone = "  PhoneCamera:\n";
+    yaml.insert(yaml.find(phone) + phone.size(), "    shutter: 0\n");
+  }
   if (which == 4) {
     const std::string people = "  HumanGeneration:\n";
     yaml.insert(yaml.find(people) + people.size(), "    hair_strand_coverage: 1\n");
@@ -126,6 +133,7 @@ BENCHMARK(BM_GenerateRealistic)
     ->Arg(2)
     ->Arg(3)
     ->Arg(4)
+    ->Arg(5)
     ->Iterations(1)
     ->UseManualTime()
     ->Unit(benchmark::kSecond);
