@@ -480,33 +480,41 @@ echo 4242
 
 namespace {
 
-// The raised-hips template moves only the hips, 9 cm (times the person's scale) up the torso.
-TEST(GenerateCli, RaisedHipsTemplateMovesOnlyTheHips) {
+// The raised-hips template moves only the hips, 9 cm (times the person's scale) up the torso;
+// the as-annotated one also the shoulders, 4 cm, and the ears to the ear's centre (0.5-2.5 cm).
+TEST(GenerateCli, AnnotatedTemplatesMoveOnlyTheirPoints) {
   const fs::path dir = fresh_temp_dir("generate_raised_hips");
   const fs::path config = write_scenario(dir);
-  std::string raised = kSmallScenario;
-  raised.replace(raised.find("labels: {"), 9, "labels: {keypoint_template: coco17-raised-hips, ");
-  std::ofstream(dir / "raised.yaml") << raised;
   ASSERT_EQ(run_wheelpose(generate_args(config, dir / "plain", 2)).exit_code, 0);
-  const auto r = run_wheelpose(generate_args(dir / "raised.yaml", dir / "raised", 2));
-  ASSERT_EQ(r.exit_code, 0) << r.output;
   const json a = read_json(dir / "plain" / "annotations.json");
-  const json b = read_json(dir / "raised" / "annotations.json");
-  ASSERT_EQ(a["annotations"].size(), b["annotations"].size());
   ASSERT_FALSE(a["annotations"].empty());
-  for (std::size_t i = 0; i < a["annotations"].size(); ++i) {
-    const auto p = a["annotations"][i]["keypoints_3d"].get<std::vector<double>>();
-    const auto q = b["annotations"][i]["keypoints_3d"].get<std::vector<double>>();
-    const double scale = a["annotations"][i]["scale"];
-    for (int k = 0; k < 17; ++k) {
-      const double d =
-          std::hypot(p[3 * k] - q[3 * k], p[3 * k + 1] - q[3 * k + 1], p[3 * k + 2] - q[3 * k + 2]);
-      if (k == 11 || k == 12) {
-        if (p[3 * k + 2] != 0) {
-          EXPECT_NEAR(d, 0.09 * scale, 0.002 * scale) << "keypoint " << k;
+  for (const std::string name : {"coco17-raised-hips", "coco17-as-annotated"}) {
+    std::string scenario = kSmallScenario;
+    scenario.replace(scenario.find("labels: {"), 9, "labels: {keypoint_template: " + name + ", ");
+    std::ofstream(dir / (name + ".yaml")) << scenario;
+    const auto r = run_wheelpose(generate_args(dir / (name + ".yaml"), dir / name, 2));
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const json b = read_json(dir / name / "annotations.json");
+    ASSERT_EQ(a["annotations"].size(), b["annotations"].size());
+    const bool annotated = name == "coco17-as-annotated";
+    for (std::size_t i = 0; i < a["annotations"].size(); ++i) {
+      const auto p = a["annotations"][i]["keypoints_3d"].get<std::vector<double>>();
+      const auto q = b["annotations"][i]["keypoints_3d"].get<std::vector<double>>();
+      const double scale = a["annotations"][i]["scale"];
+      for (int k = 0; k < 17; ++k) {
+        if (p[3 * k + 2] == 0) continue;  // beyond a limb cut
+        const double d = std::hypot(p[3 * k] - q[3 * k], p[3 * k + 1] - q[3 * k + 1],
+                                    p[3 * k + 2] - q[3 * k + 2]);
+        if (k == 11 || k == 12) {
+          EXPECT_NEAR(d, 0.09 * scale, 0.002 * scale) << name << " keypoint " << k;
+        } else if (annotated && (k == 5 || k == 6)) {
+          EXPECT_NEAR(d, 0.04 * scale, 0.002 * scale) << name << " keypoint " << k;
+        } else if (annotated && (k == 3 || k == 4)) {
+          EXPECT_GT(d, 0.005 * scale) << name << " keypoint " << k;
+          EXPECT_LT(d, 0.025 * scale) << name << " keypoint " << k;
+        } else {
+          EXPECT_LT(d, 1e-9) << name << " keypoint " << k;
         }
-      } else {
-        EXPECT_LT(d, 1e-9) << "keypoint " << k;
       }
     }
   }

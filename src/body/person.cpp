@@ -97,6 +97,16 @@ BodyData::BodyData(const fs::path& assets_root)
     if (ear_band && (ear_r < 0 || p.x() < base.vertices[ear_r].x())) ear_r = v;
   }
   if (nose < 0 || ear_l < 0 || ear_r < 0) throw Error("base.obj: head landmarks not found");
+  // The ear stands out of the skull: its vertices within 0.2 dm of the outermost one, in the
+  // same band, are the ear itself, and their mean is its centre.
+  for (int v : body_vertices_) {
+    const Eigen::Vector3f& p = base.vertices[v];
+    if (p.y() < head.y() || p.y() < eye_l.y() - 0.6f || p.y() > eye_l.y() + 0.1f ||
+        p.z() > eye_l.z() - 0.6f)
+      continue;
+    if (p.x() > base.vertices[ear_l].x() - 0.2f) ear_centres_[0].push_back(v);
+    if (p.x() < base.vertices[ear_r].x() + 0.2f) ear_centres_[1].push_back(v);
+  }
   face_[0] = {nose};
   face_[1] = base.group_vertices.at("helper-l-eye");
   face_[2] = base.group_vertices.at("helper-r-eye");
@@ -377,7 +387,7 @@ constexpr int kCocoJoint[kCocoCount] = {-1,
                                         motion::kRightAnkle};
 
 // The 23 joints, COCO-17 keypoints (the face's moving rigidly with the head bone), which of
-// them a limb cut removes, and the raised hips.
+// them a limb cut removes, and where COCO's annotators would put them (Person::annotated).
 void place_keypoints(const BodyData& data, const PersonSpec& spec,
                      const std::vector<Eigen::Vector3f>& morphed, const RigPose& pose,
                      Person& person) {
@@ -401,10 +411,19 @@ void place_keypoints(const BodyData& data, const PersonSpec& spec,
     person.coco_present[k] =
         kCocoJoint[k] < 0 || std::find(absent.begin(), absent.end(), kCocoJoint[k]) == absent.end();
   }
-  auto joint = [&](int j) { return person.joints[j].cast<float>().eval(); };
-  const Eigen::Vector3f up = (joint(motion::kNeckBase) - joint(motion::kPelvis)).normalized();
-  person.raised_hips = {joint(motion::kLeftHip) + 0.09f * up,
-                        joint(motion::kRightHip) + 0.09f * up};
+  const Eigen::Vector3f up = (person.joints[motion::kNeckBase] - person.joints[motion::kPelvis])
+                                 .cast<float>()
+                                 .normalized();
+  person.annotated = person.coco;
+  for (int k : {5, 6}) person.annotated[k] += kAnnotatedShoulderRaise * up;
+  for (int k : {11, 12}) person.annotated[k] += kAnnotatedHipRaise * up;
+  for (int side = 0; side < 2; ++side) {
+    Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+    for (int v : data.ear_centres()[side]) sum += morphed[v];
+    const Eigen::Vector3f rest = sum / static_cast<float>(data.ear_centres()[side].size());
+    person.annotated[3 + side] =
+        person.posed_bones.head[head] + head_rot * (rest - person.rest_bones.head[head]);
+  }
 }
 
 // Moves everything posed so that the floor is at y = 0: under the chair, or under the lowest
@@ -423,7 +442,7 @@ void stand_on_floor(bool standing, Person& person) {
     for (auto& v : g.vertices) v += shift;
   for (auto& j : person.joints) j += shift.cast<double>();
   for (auto& k : person.coco) k += shift;
-  for (auto& k : person.raised_hips) k += shift;
+  for (auto& k : person.annotated) k += shift;
   for (auto& h : person.posed_bones.head) h += shift;
   for (auto& t : person.posed_bones.tail) t += shift;
   for (auto& p : person.chair.parts) p.centre += shift;
@@ -480,8 +499,8 @@ nlohmann::ordered_json describe(const PersonSpec& spec, const Person& person) {
   for (int j : absent_joints(spec.limbs))
     absent_names.push_back(std::string(motion::joint_name(j)));
   d["absent_joints"] = absent_names;
-  d["raised_hips"] = {{"left_hip", vec(person.raised_hips[0])},
-                      {"right_hip", vec(person.raised_hips[1])}};
+  d["raised_hips"] = {{"left_hip", vec(person.annotated[11])},
+                      {"right_hip", vec(person.annotated[12])}};
   nlohmann::ordered_json joints;
   for (int j = 0; j < motion::kJointCount; ++j) {
     joints[std::string(motion::joint_name(j))] = vec(person.joints[j].cast<float>());

@@ -20,6 +20,13 @@
 namespace wheelpose::body {
 
 inline constexpr int kCocoCount = 17;
+// How far up the torso (neck base minus pelvis) an annotated hip and shoulder lie above their
+// joints, metres before the person's scale. Hips: the WheelPose authors' raised hips. Shoulders:
+// measured — the pretrained MultiPose, unbiased on real COCO people (within 1 % of a person's
+// size), puts shoulders about 6 % of a person's size (about 4 cm) above our shoulder joints on
+// renders.
+inline constexpr float kAnnotatedHipRaise = 0.09f;
+inline constexpr float kAnnotatedShoulderRaise = 0.04f;
 // COCO-17 order: nose, left_eye, right_eye, left_ear, right_ear, left/right shoulder, elbow,
 // wrist, hip, knee, ankle.
 const std::array<const char*, kCocoCount>& coco_names();
@@ -37,6 +44,9 @@ class BodyData {
   const std::vector<std::array<unsigned, 3>>& body_triangles() const { return triangles_; }
   // Head-mesh landmarks: base-mesh vertex sets whose mean is the keypoint.
   const std::array<std::vector<int>, 5>& face_landmarks() const { return face_; }
+  // The ears' centres (left, right) as vertex sets: the ear's outer 2 cm. COCO's annotators
+  // mark an ear at its middle; face_landmarks() keeps the outermost vertex, the rim's top.
+  const std::array<std::vector<int>, 2>& ear_centres() const { return ear_centres_; }
   // Base-mesh vertices of the lips: those the default MakeHuman rig's orbicularis oris bones
   // (oris*) move with a summed weight of at least one half. Ascending.
   const std::vector<int>& lip_vertices() const { return lips_; }
@@ -48,6 +58,7 @@ class BodyData {
   std::vector<int> body_vertices_;
   std::vector<std::array<unsigned, 3>> triangles_;
   std::array<std::vector<int>, 5> face_;
+  std::array<std::vector<int>, 2> ear_centres_;
   std::vector<int> lips_;
 };
 
@@ -107,7 +118,11 @@ struct Person {
   motion::Pose joints;                           // our 23 joints on the posed body
   std::array<Eigen::Vector3f, kCocoCount> coco;  // COCO-17 keypoints
   std::array<bool, kCocoCount> coco_present{};   // false beyond a limb cut (label v = 0)
-  std::array<Eigen::Vector3f, 2> raised_hips;    // hips 9 cm up the torso (left, right)
+  // COCO-17 keypoints where COCO's annotators put them on a photo (the `annotated:` anchors of
+  // data/keypoints/coco17-as-annotated.json): hips 9 cm up the torso (the WheelPose authors'
+  // raised hips), shoulders kAnnotatedShoulderRaise up the torso (the top of the shoulder, not
+  // the joint inside it), ears at the ear's centre; the other points as in `coco`.
+  std::array<Eigen::Vector3f, kCocoCount> annotated;
   Eigen::Vector3f skin = Eigen::Vector3f::Ones();
   Wheelchair chair;
   MobilityAid aid;                     // held in the hands (or standing in front), empty when none

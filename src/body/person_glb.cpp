@@ -27,8 +27,8 @@ void write_person_glb(const Person& person, const BodyData& /*data*/, const fs::
     if (!person.coco_present[k]) continue;
     parts.markers.emplace_back(std::string("kp_") + coco_names()[k], person.coco[k]);
   }
-  parts.markers.emplace_back("kp_left_hip_raised", person.raised_hips[0]);
-  parts.markers.emplace_back("kp_right_hip_raised", person.raised_hips[1]);
+  parts.markers.emplace_back("kp_left_hip_raised", person.annotated[11]);
+  parts.markers.emplace_back("kp_right_hip_raised", person.annotated[12]);
   export_parts(parts, path);
 }
 

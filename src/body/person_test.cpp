@@ -122,9 +122,30 @@ TEST(Person, KeypointsOnTheHead) {
   EXPECT_LT(ear_r.x(), eye_r.x());
   EXPECT_GT(nose.z(), ear_l.z() + 0.05f);  // facing +Z
   EXPECT_NEAR((eye_l - eye_r).norm(), 0.062f, 0.02f);
-  // Raised hips: 9 cm from the hips.
-  EXPECT_NEAR((p.raised_hips[0] - p.coco[11]).norm(), 0.09f, 1e-5f);
-  EXPECT_GT(p.raised_hips[0].y(), p.coco[11].y());
+}
+
+// Where COCO's annotators put the points: hips 9 cm and shoulders 4 cm up the torso, ears at
+// the ear's centre (inside the outermost rim vertex, lower, a little forward), the rest as is.
+TEST(Person, AnnotatedKeypointsSitWhereCocoPutsThem) {
+  const Person p = build_person(body_data(), sample_spec(11));
+  const Eigen::Vector3f up =
+      (p.joints[motion::kNeckBase] - p.joints[motion::kPelvis]).cast<float>().normalized();
+  for (int k : {11, 12}) EXPECT_LT((p.annotated[k] - p.coco[k] - 0.09f * up).norm(), 1e-5f) << k;
+  for (int k : {5, 6}) EXPECT_LT((p.annotated[k] - p.coco[k] - 0.04f * up).norm(), 1e-5f) << k;
+  for (int k : {0, 1, 2, 7, 8, 9, 10, 13, 14, 15, 16}) EXPECT_EQ(p.annotated[k], p.coco[k]) << k;
+  // Ears: 0.5-2 cm from the rim vertex, nearer the midline, lower, and still outside the eyes.
+  for (int side : {0, 1}) {
+    const Eigen::Vector3f rim = p.coco[3 + side], centre = p.annotated[3 + side];
+    EXPECT_GT((centre - rim).norm(), 0.005f) << side;
+    EXPECT_LT((centre - rim).norm(), 0.025f) << side;
+    EXPECT_LT(std::abs(centre.x()), std::abs(rim.x())) << side;
+    EXPECT_LT(centre.dot(up), rim.dot(up)) << side;
+    EXPECT_GT(std::abs(centre.x()), std::abs(p.coco[1 + side].x())) << side;
+  }
+  // The left and right ears mirror each other on the symmetric base mesh.
+  const BodyData& data = body_data();
+  EXPECT_EQ(data.ear_centres()[0].size(), data.ear_centres()[1].size());
+  EXPECT_GE(data.ear_centres()[0].size(), 20u);
 }
 
 TEST(Person, DeterministicPerSeed) {

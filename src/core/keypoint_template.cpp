@@ -131,6 +131,10 @@ KeypointTemplate load_keypoint_template(const std::string& name_or_path) {
     return parse_keypoint_template(builtin_coco17_raised_hips_json(),
                                    "<built-in coco17-raised-hips template>");
   }
+  if (name_or_path == "coco17-as-annotated") {
+    return parse_keypoint_template(builtin_coco17_as_annotated_json(),
+                                   "<built-in coco17-as-annotated template>");
+  }
   return parse_keypoint_template(read_file(name_or_path), name_or_path);
 }
 

@@ -43,13 +43,15 @@ struct KeypointTemplate {
 // Parses template JSON text; `source` names it in error messages.
 KeypointTemplate parse_keypoint_template(std::string_view json_text, const std::string& source);
 
-// "coco17" and "coco17-raised-hips" select the built-in templates (data/keypoints/); anything
-// else is read as a file path.
+// "coco17", "coco17-raised-hips" and "coco17-as-annotated" select the built-in templates
+// (data/keypoints/); anything else is read as a file path.
 KeypointTemplate load_keypoint_template(const std::string& name_or_path);
 
-// The texts of data/keypoints/coco17.json and coco17-raised-hips.json, compiled in.
+// The texts of data/keypoints/coco17.json, coco17-raised-hips.json and
+// coco17-as-annotated.json, compiled in.
 std::string_view builtin_coco17_json();
 std::string_view builtin_coco17_raised_hips_json();
+std::string_view builtin_coco17_as_annotated_json();
 
 // The COCO category of people labelled with this template: id 1, "person", its keypoint names
 // and its skeleton (1-based), as every COCO file the toolkit writes carries it.

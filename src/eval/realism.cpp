@@ -121,11 +121,15 @@ void add_numeric_groups(const std::vector<Judged>& people, int buckets,
   }
 }
 
-int labelled_keypoints(const coco::GtAnnotation& person) {
-  int labelled = 0;
-  for (std::size_t k = 2; k < person.keypoints.size(); k += 3) labelled += person.keypoints[k] > 0;
-  return labelled;
+// Keypoints with v > 0 (labelled) or v == 2 (labelled and visible).
+int count_keypoints(const coco::GtAnnotation& person, bool visible_only) {
+  int count = 0;
+  for (std::size_t k = 2; k < person.keypoints.size(); k += 3) {
+    count += visible_only ? person.keypoints[k] == 2 : person.keypoints[k] > 0;
+  }
+  return count;
 }
+int labelled_keypoints(const coco::GtAnnotation& person) { return count_keypoints(person, false); }
 
 }  // namespace
 
@@ -177,6 +181,9 @@ RealismReport measure_realism(const json& root, const coco::CocoGroundTruth& gt,
       collect(*it->second, "", judged.attributes);
     }
     judged.attributes.numbers.emplace_back("height_px", person.bbox.h);
+    // How much of the person shows: a renderer labels every hidden joint, a human annotator
+    // only what they can place, so compare sets at equal visibility.
+    judged.attributes.numbers.emplace_back("visible_keypoints", count_keypoints(person, true));
     report.overall.people += 1;
     report.overall.found += judged.found;
     report.overall.oks_sum += judged.oks;

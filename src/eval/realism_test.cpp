@@ -114,8 +114,25 @@ TEST(Realism, TheBestMatchDecidesFoundAndItsOks) {
     EXPECT_NE(g.key, "id");
     EXPECT_NE(g.key, "bbox");
     EXPECT_NE(g.key, "file_name");
-    EXPECT_NE(g.key, "height_px");  // every judged person is 200 px tall
+    EXPECT_NE(g.key, "height_px");          // every judged person is 200 px tall
+    EXPECT_NE(g.key, "visible_keypoints");  // and shows all 17 keypoints
   }
+}
+
+TEST(Realism, SplitsByHowManyKeypointsShow) {
+  json root = ground_truth();
+  // Person 2 has 5 keypoints labelled but hidden (v = 1): 12 of 17 show.
+  json& hidden = root["annotations"][1]["keypoints"];
+  for (int k = 0; k < 5; ++k) hidden[3 * k + 2] = 1;
+  const coco::CocoGroundTruth gt = coco::parse_coco_gt(root, "gt.json", 17, true);
+  const coco::CocoResults dt =
+      coco::parse_coco_results(json::array({detection(1, 10, 10)}), "dt.json", gt, 17);
+  const RealismReport report =
+      measure_realism(root, gt, dt, load_keypoint_template("coco17"), RealismOptions{});
+  EXPECT_EQ(report.overall.people, 3);  // hidden keypoints still count as labelled
+  EXPECT_EQ(group(report, "visible_keypoints", "[12, 17)").people, 1);
+  EXPECT_EQ(group(report, "visible_keypoints", "[17, 17]").people, 2);
+  EXPECT_EQ(group(report, "visible_keypoints", "[17, 17]").found, 1);
 }
 
 TEST(Realism, ReportsNameEveryGroup) {

@@ -231,12 +231,11 @@ void label_person(const body::Person& person, const body::PersonSpec& spec, cons
                   LabelPerson& label) {
   label.instance_id = id;
   for (const KeypointAnchor& a : anchors) {
-    const bool raised = a.kind == KeypointAnchor::kRaisedHip;
-    const Vector3f local = raised ? person.raised_hips[a.index] : person.coco[a.index];
+    const bool annotated = a.kind == KeypointAnchor::kAnnotated;
+    const Vector3f local = annotated ? person.annotated[a.index] : person.coco[a.index];
     label.keypoints.push_back(to_world * local);
     label.tolerance.push_back(a.tolerance_m * p.scale);
-    // Raised hips exist when the hips do.
-    label.present.push_back(person.coco_present[raised ? 11 + a.index : a.index]);
+    label.present.push_back(person.coco_present[a.index]);
   }
   nlohmann::ordered_json limbs = nlohmann::ordered_json::object();
   for (int l = 0; l < 4; ++l) {
@@ -379,16 +378,18 @@ std::vector<KeypointAnchor> resolve_anchors(const KeypointTemplate& keypoint_tem
                       what = colon == std::string::npos ? "" : a.substr(colon + 1);
     KeypointAnchor anchor;
     if (kind == "raised_hip" && (what == "left" || what == "right")) {
-      anchor.kind = KeypointAnchor::kRaisedHip;
-      anchor.index = what == "left" ? 0 : 1;
+      anchor.kind = KeypointAnchor::kAnnotated;
+      anchor.index = what == "left" ? 11 : 12;
     } else {
       const auto& names = body::coco_names();
       const auto it = std::find(names.begin(), names.end(), what);
-      if ((kind != "face" && kind != "joint") || it == names.end()) {
+      if ((kind != "face" && kind != "joint" && kind != "annotated") || it == names.end()) {
         throw Error("keypoint template '" + keypoint_template.name + "': keypoint '" + k.name +
                     "': anchor '" + a +
-                    "' is not face:<coco name>, joint:<coco name> or raised_hip:left|right");
+                    "' is not face:<coco name>, joint:<coco name>, annotated:<coco name> or "
+                    "raised_hip:left|right");
       }
+      if (kind == "annotated") anchor.kind = KeypointAnchor::kAnnotated;
       anchor.index = static_cast<int>(it - names.begin());
     }
     anchor.tolerance_m = static_cast<float>(k.occlusion_tolerance_m);

@@ -52,8 +52,10 @@ struct BuiltFrame {
 // Per keypoint of `keypoint_template`: which point of a body it is. Throws Error naming the
 // template and keypoint for an anchor we cannot resolve.
 struct KeypointAnchor {
-  enum Kind { kCoco, kRaisedHip } kind = kCoco;
-  int index = 0;          // COCO-17 index, or 0 = left / 1 = right raised hip
+  // kCoco: body::Person::coco (face: and joint: anchors); kAnnotated: Person::annotated
+  // (annotated:<name>, and raised_hip:<side>, the annotated hip).
+  enum Kind { kCoco, kAnnotated } kind = kCoco;
+  int index = 0;          // COCO-17 index
   float tolerance_m = 0;  // occlusion tolerance at scale 1
 };
 std::vector<KeypointAnchor> resolve_anchors(const KeypointTemplate& keypoint_template);
