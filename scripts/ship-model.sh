@@ -95,6 +95,21 @@ rows() {  # rows BEFORE AFTER REAL_SIZE
   row "real people, COCO val2017 single-person photos (licences 4, 5, 7, 8)" real-people "$1" "$2"
   row "real seated people (the same photos, captions say seated)" real-seated "$1" "$2"
 }
+# The training set's scenario and box convention, for the cards: a set labelled with
+# labels.box: person_and_wheelchair keeps each seated person's own box as bbox_person.
+train_step="$out/steps/$(jq -er '[.steps[] | select(.kind == "generate" and
+  (.id | test("^generate-train-[0-9a-f]+$")))] | first | .id' "$results")"
+train_config=$(jq -r '.commands[0] as $c | ($c | index("--config")) as $i |
+  if $i == null then "the paper preset" else $c[$i + 1] end' "$train_step/done.json")
+train_config=${train_config#"$root/"}
+if jq -e 'any(.annotations[]; has("bbox_person"))' "$train_step/annotations.json" >/dev/null; then
+  box_convention="Its box for a person in a wheelchair holds the wheelchair too (trained on
+  \`labels.box: person_and_wheelchair\`: the box a user who wants to find wheelchair users
+  draws, as the real dev photos do; not COCO's person box). People without a chair get COCO
+  person boxes."
+else
+  box_convention="Its boxes are COCO person boxes (the person, not the chair)."
+fi
 train_seconds=$(jq '[.steps[] | select(.kind == "train") | .seconds] | add | round' "$results")
 best_step=$(jq .step "$(dirname "$trained")/best.json")
 made="    scripts/ship-model.sh $out   # = wheelpose experiment run configs/experiments/ship.yaml --out $out, then:
@@ -122,7 +137,7 @@ Apache License 2.0; this derivative is under the same licence (see models/LICENS
 $made
 
 The recipe is \`configs/experiments/ship.yaml\` (commit $(jq -r .commit "$results")): $(frames train)
-generated frames of people in wheelchairs (seed 101, \`configs/boost-train.yaml\`, the paper's
+generated frames of people in wheelchairs (seed 101, \`$train_config\`, the paper's
 randomizers, hips labelled where COCO puts them), steps of 16 crops at predict's scale, AdamW lr 1e-4 (backbone × 0.05), seed 1;
 the weights of step $best_step (best validation keypoint AP on $(frames val) frames of the
 training distribution), then blended with the pretrained weights: pretrained + 0.5 ×
@@ -154,7 +169,7 @@ $(rows shipped-now movenet-wheelchair 256)
   (keypoints, people without wheelchairs: see the table), and real boxes drawn around person
   *and* chair cap every model's box AP at high overlap. On real photos the ensemble of the pretrained model
   and \`movenet-wheelchair-full\` does better (that model's card).
-- Its boxes are COCO person boxes (the person, not the chair).
+- $box_convention
 - Not measured: children, crowds of more than 6 people (the model's limit), unusual or
   reclining chairs, people transferring in or out of a chair, strong occlusion.
 - A person in a wheelchair is found no better than the data it saw: the paper preset's
