@@ -133,7 +133,7 @@ TEST(Person, AnnotatedKeypointsSitWhereCocoPutsThem) {
   for (int k : {11, 12}) EXPECT_LT((p.annotated[k] - p.coco[k] - 0.09f * up).norm(), 1e-5f) << k;
   for (int k : {5, 6}) EXPECT_LT((p.annotated[k] - p.coco[k] - 0.04f * up).norm(), 1e-5f) << k;
   for (int k : {0, 1, 2, 7, 8, 9, 10, 13, 14, 15, 16}) EXPECT_EQ(p.annotated[k], p.coco[k]) << k;
-  // Ears: 0.5-2 cm from the rim vertex, nearer the midline, lower, and still outside the eyes.
+  // Ears: 0.5-2.5 cm from the rim vertex, nearer the midline, lower, still outside the eyes.
   for (int side : {0, 1}) {
     const Eigen::Vector3f rim = p.coco[3 + side], centre = p.annotated[3 + side];
     EXPECT_GT((centre - rim).norm(), 0.005f) << side;
