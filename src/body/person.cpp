@@ -87,25 +87,23 @@ BodyData::BodyData(const fs::path& assets_root)
   const Eigen::Vector3f eye_l = group_mean(base, "helper-l-eye");
   const Eigen::Vector3f eye_r = group_mean(base, "helper-r-eye");
   int nose = -1, ear_l = -1, ear_r = -1;
+  std::vector<int> ear_band;  // head vertices level with and behind the eyes, ascending
   for (int v : body_vertices_) {
     const Eigen::Vector3f& p = base.vertices[v];
     if (p.y() < head.y()) continue;
     if (std::abs(p.x()) < 0.05f && (nose < 0 || p.z() > base.vertices[nose].z())) nose = v;
-    const bool ear_band =
-        p.y() > eye_l.y() - 0.6f && p.y() < eye_l.y() + 0.1f && p.z() < eye_l.z() - 0.6f;
-    if (ear_band && (ear_l < 0 || p.x() > base.vertices[ear_l].x())) ear_l = v;
-    if (ear_band && (ear_r < 0 || p.x() < base.vertices[ear_r].x())) ear_r = v;
+    if (p.y() <= eye_l.y() - 0.6f || p.y() >= eye_l.y() + 0.1f || p.z() >= eye_l.z() - 0.6f)
+      continue;
+    ear_band.push_back(v);
+    if (ear_l < 0 || p.x() > base.vertices[ear_l].x()) ear_l = v;
+    if (ear_r < 0 || p.x() < base.vertices[ear_r].x()) ear_r = v;
   }
   if (nose < 0 || ear_l < 0 || ear_r < 0) throw Error("base.obj: head landmarks not found");
-  // The ear stands out of the skull: its vertices within 0.2 dm of the outermost one, in the
-  // same band, are the ear itself, and their mean is its centre.
-  for (int v : body_vertices_) {
-    const Eigen::Vector3f& p = base.vertices[v];
-    if (p.y() < head.y() || p.y() < eye_l.y() - 0.6f || p.y() > eye_l.y() + 0.1f ||
-        p.z() > eye_l.z() - 0.6f)
-      continue;
-    if (p.x() > base.vertices[ear_l].x() - 0.2f) ear_centres_[0].push_back(v);
-    if (p.x() < base.vertices[ear_r].x() + 0.2f) ear_centres_[1].push_back(v);
+  // The ear stands out of the skull: its band vertices within 0.2 dm of the outermost one are
+  // the ear itself, and their mean is its centre.
+  for (int v : ear_band) {
+    if (base.vertices[v].x() > base.vertices[ear_l].x() - 0.2f) ear_centres_[0].push_back(v);
+    if (base.vertices[v].x() < base.vertices[ear_r].x() + 0.2f) ear_centres_[1].push_back(v);
   }
   face_[0] = {nose};
   face_[1] = base.group_vertices.at("helper-l-eye");
@@ -395,16 +393,17 @@ void place_keypoints(const BodyData& data, const PersonSpec& spec,
   person.joints = skeleton_joints(rig, person.posed_bones);
   const int head = rig.bone("head");
   const Eigen::Quaternionf head_rot = pose.rotation[head];
-  for (int k = 0; k < kCocoCount; ++k) {
-    if (kCocoJoint[k] >= 0) {
-      person.coco[k] = person.joints[kCocoJoint[k]].cast<float>();
-      continue;
-    }
+  // The mean of some head vertices at rest, carried rigidly with the head bone.
+  const auto on_head = [&](const std::vector<int>& vertices) {
     Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-    for (int v : data.face_landmarks()[k]) sum += morphed[v];
-    const Eigen::Vector3f rest = sum / static_cast<float>(data.face_landmarks()[k].size());
-    person.coco[k] =
-        person.posed_bones.head[head] + head_rot * (rest - person.rest_bones.head[head]);
+    for (int v : vertices) sum += morphed[v];
+    const Eigen::Vector3f rest = sum / static_cast<float>(vertices.size());
+    return Eigen::Vector3f(person.posed_bones.head[head] +
+                           head_rot * (rest - person.rest_bones.head[head]));
+  };
+  for (int k = 0; k < kCocoCount; ++k) {
+    person.coco[k] = kCocoJoint[k] >= 0 ? person.joints[kCocoJoint[k]].cast<float>().eval()
+                                        : on_head(data.face_landmarks()[k]);
   }
   const std::vector<int> absent = absent_joints(spec.limbs);
   for (int k = 0; k < kCocoCount; ++k) {
@@ -417,13 +416,8 @@ void place_keypoints(const BodyData& data, const PersonSpec& spec,
   person.annotated = person.coco;
   for (int k : {5, 6}) person.annotated[k] += kAnnotatedShoulderRaise * up;
   for (int k : {11, 12}) person.annotated[k] += kAnnotatedHipRaise * up;
-  for (int side = 0; side < 2; ++side) {
-    Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-    for (int v : data.ear_centres()[side]) sum += morphed[v];
-    const Eigen::Vector3f rest = sum / static_cast<float>(data.ear_centres()[side].size());
-    person.annotated[3 + side] =
-        person.posed_bones.head[head] + head_rot * (rest - person.rest_bones.head[head]);
-  }
+  for (int side = 0; side < 2; ++side)
+    person.annotated[3 + side] = on_head(data.ear_centres()[side]);
 }
 
 // Moves everything posed so that the floor is at y = 0: under the chair, or under the lowest
