@@ -240,7 +240,7 @@ $made
 
 Pretrained MoveNet with \`--flip\` → the ensemble with \`--flip\` (change), in points, the
 real photos at \`--size 256\` (their best single size), the generated sets at \`predict\`'s
-default input; scored with \`best.pt\` (float32; the shipped file holds float16).
+default input; scored with \`$(basename "$trained")\` (float32; the shipped file holds float16).
 
 | test set | keypoint AP | box AP | box AP50 |
 |---|---|---|---|
