@@ -118,7 +118,13 @@ else
 fi
 train_seconds=$(jq '[.steps[] | select(.kind == "train") | .seconds] | add | round' "$results")
 train_options="$(dirname "$trained")/options.json"
-template=$(sed -n 's/^ *keypoint_template: *\([^ #]*\).*/\1/p' "$root/$train_config" 2>/dev/null | head -1)
+# The keypoint template the scenario names (the paper preset's is coco17).
+config_file=$train_config
+[[ $config_file == /* ]] || config_file="$root/$config_file"
+template=""
+if [[ -f $config_file ]]; then
+  template=$(sed -n 's/^ *keypoint_template: *\([^ #]*\).*/\1/p' "$config_file" | head -1)
+fi
 template=${template:-coco17}
 # Which weights: the last step's, or the step validation chose.
 if [[ $(basename "$trained") == last.pt ]]; then
