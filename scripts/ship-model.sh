@@ -80,13 +80,13 @@ row() {
     | "| \($name) | \(cell($x.keypoints.AP; $y.keypoints.AP)) | \(cell($x.bbox.AP; $y.bbox.AP)) | \(cell($x.bbox.AP50; $y.bbox.AP50)) |"
   ' "$results"
 }
-# frames SET: how many frames the experiment generated for SET (its generate step's images).
-frames() {
-  local id
-  id=$(jq -er --arg set "$1" '[.steps[] | select(.kind == "generate" and
-    (.id | test("^generate-" + $set + "-[0-9a-f]+$")))] | first | .id' "$results")
-  jq '.images | length' "$out/steps/$id/annotations.json"
+# generate_step SET: the folder of the step that generated SET.
+generate_step() {
+  echo "$out/steps/$(jq -er --arg set "$1" '[.steps[] | select(.kind == "generate" and
+    (.id | test("^generate-" + $set + "-[0-9a-f]+$")))] | first | .id' "$results")"
 }
+# frames SET: how many frames the experiment generated for SET (its generate step's images).
+frames() { jq '.images | length' "$(generate_step "$1")/annotations.json"; }
 real_label="real photos of lexra/wheelchair's two dev folders (GitHub, no licence stated; measured on only)"
 rows() {  # rows BEFORE AFTER REAL_SIZE: every set
   row "generated, paper preset ($(frames test) frames, held-out clips, chair and aid)" test "$1" "$2"
@@ -100,14 +100,15 @@ real_rows() {  # real_rows BEFORE AFTER REAL_SIZE: the real sets
   row "real people, COCO val2017 single-person photos (licences 4, 5, 7, 8)" real-people "$1" "$2"
   row "real seated people (the same photos, captions say seated)" real-seated "$1" "$2"
 }
-# The training set's scenario and box convention, for the cards: a set labelled with
-# labels.box: person_and_wheelchair keeps each seated person's own box as bbox_person.
-train_step="$out/steps/$(jq -er '[.steps[] | select(.kind == "generate" and
-  (.id | test("^generate-train-[0-9a-f]+$")))] | first | .id' "$results")"
+# The training set's scenario, keypoint template and box convention, for the cards (its
+# scenario.json holds the scenario as generate resolved it).
+train_step=$(generate_step train)
+train_labels=$(jq -c '.scenario.labels' "$train_step/scenario.json")
+template=$(jq -r '.keypoint_template' <<<"$train_labels")
 train_config=$(jq -r '.commands[0] as $c | ($c | index("--config")) as $i |
   if $i == null then "the paper preset" else $c[$i + 1] end' "$train_step/done.json")
 train_config=${train_config#"$root/"}
-if jq -e 'any(.annotations[]; has("bbox_person"))' "$train_step/annotations.json" >/dev/null; then
+if [[ $(jq -r '.box' <<<"$train_labels") == person_and_wheelchair ]]; then
   box_convention="Its box for a person in a wheelchair holds the wheelchair too (trained on
   \`labels.box: person_and_wheelchair\`: the box a user who wants to find wheelchair users
   draws, as the real dev photos do; not COCO's person box). People without a chair get COCO
@@ -118,14 +119,6 @@ else
 fi
 train_seconds=$(jq '[.steps[] | select(.kind == "train") | .seconds] | add | round' "$results")
 train_options="$(dirname "$trained")/options.json"
-# The keypoint template the scenario names (the paper preset's is coco17).
-config_file=$train_config
-[[ $config_file == /* ]] || config_file="$root/$config_file"
-template=""
-if [[ -f $config_file ]]; then
-  template=$(sed -n 's/^ *keypoint_template: *\([^ #]*\).*/\1/p' "$config_file" | head -1)
-fi
-template=${template:-coco17}
 # Which weights: the last step's, or the step validation chose.
 if [[ $(basename "$trained") == last.pt ]]; then
   weights="the weights of the last step ($(jq .steps "$train_options"))"
@@ -138,6 +131,10 @@ if (($(jq '.train | length' "$train_options") > 1)); then
   rehearsal_file=$(jq -r '.train[1][0]' "$train_options")
   rehearsal_weight=$(jq '.train[1][1]' "$train_options")
   rehearsal_images=$(jq '.images | length' "$rehearsal_file")
+  # train draws each file's images in proportion to count × weight.
+  rehearsal_share=$(jq -n --argjson n "$rehearsal_images" --argjson w "$rehearsal_weight" \
+    --argjson renders "$(frames train)" --argjson rw "$(jq '.train[0][1]' "$train_options")" \
+    '$n * $w / ($n * $w + $renders * $rw) * 100 | round')
 fi
 distill=$(jq '.distill' "$train_options")
 if ((rehearsal_images > 0)); then
@@ -146,8 +143,8 @@ COCO val2017 images under the Flickr licences Attribution (4), Attribution-Share
 known copyright restriction (7) and United States Government Work (8) only, with YOLO-pose
 keypoint labels (COCO annotations CC BY 4.0; README, \"Credits and licences\"). None of the photos it is
 scored on was trained on"
-  recipe_rehearsal=" beside those $rehearsal_images real photos at weight $rehearsal_weight (about a quarter of
-every batch) with distillation from the frozen pretrained model at $distill"
+  recipe_rehearsal=" beside those $rehearsal_images real photos at weight $rehearsal_weight (about $rehearsal_share % of
+the images drawn) with distillation from the frozen pretrained model at $distill"
 else
   training_data="WheelPose's own renders (no real photos)"
   recipe_rehearsal=""
