@@ -1,6 +1,7 @@
 #include "experiment/plan.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
@@ -14,11 +15,20 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Exact text for commands (step hashes are of commands, so this form must not change: it
+// would orphan every finished step of a resumable run).
 std::string number_text(double value) {
   std::ostringstream out;
   out.precision(17);
   out << value;
   return out.str();
+}
+
+// The shortest text that reads back as the same double: 0.3, not 0.29999999999999999.
+std::string shortest_number_text(double value) {
+  char text[32];
+  const auto result = std::to_chars(text, text + sizeof text, value);
+  return std::string(text, result.ptr);
 }
 
 class Planner {
@@ -123,12 +133,12 @@ class Planner {
       if (key == "model") start = value;
     }
     const std::string alpha = number_text(*model.blend);
-    const fs::path dir =
-        add("blend", variant, "blend " + variant + " " + alpha, false, [&](const fs::path& at) {
-          return std::vector<std::vector<std::string>>{
-              {"model", "blend", "--start", start, "--finetuned", weights.string(), "--alpha",
-               alpha, "--out", (at / "blend.pt").string()}};
-        });
+    const std::string label = "blend " + variant + " " + shortest_number_text(*model.blend);
+    const fs::path dir = add("blend", variant, label, false, [&](const fs::path& at) {
+      return std::vector<std::vector<std::string>>{{"model", "blend", "--start", start,
+                                                    "--finetuned", weights.string(), "--alpha",
+                                                    alpha, "--out", (at / "blend.pt").string()}};
+    });
     return (dir / "blend.pt").string();
   }
 

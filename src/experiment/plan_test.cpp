@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <string>
 
 #include "experiment/experiment_test_support.h"
 
@@ -86,6 +87,25 @@ TEST(ExperimentPlan, CommandsAreWhatTheFileSays) {
   EXPECT_THAT(score.commands[1], ElementsAre("eval", "--gt", (dir / "real.json").string(), "--dt",
                                              (score.dir / "results.json").string(), "--type",
                                              "bbox", "--out", score.dir.string()));
+}
+
+// A blend's label shows the alpha as written; its command keeps every digit, so the weights are
+// exactly the file's and the steps of runs made before keep their hashes.
+TEST(ExperimentPlan, ABlendIsLabelledByItsAlphaAsWritten) {
+  const auto dir = scratch_dir("alpha");
+  std::string text = kSmallExperiment;
+  text.replace(text.find("blend: 0.5"), 10, "blend: 0.3");
+  const Plan plan =
+      make_plan({parse_experiment(text, "exp.yaml", dir, test_commands())[0]}, dir / "run");
+  const auto blend = std::find_if(plan.steps.begin(), plan.steps.end(),
+                                  [](const Step& s) { return s.kind == "blend"; });
+  ASSERT_NE(blend, plan.steps.end());
+  EXPECT_EQ(blend->label.substr(blend->label.rfind(' ') + 1), "0.3");
+  const auto& command = blend->commands[0];
+  const auto alpha = std::find(command.begin(), command.end(), "--alpha");
+  ASSERT_NE(alpha, command.end());
+  EXPECT_EQ(alpha[1], "0.29999999999999999");
+  EXPECT_EQ(std::stod(alpha[1]), 0.3);
 }
 
 TEST(ExperimentPlan, StepsAreNamedByWhatTheyDoNotWhereTheRunLives) {
