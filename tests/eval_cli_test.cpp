@@ -133,6 +133,48 @@ TEST(EvalCliTest, SampleKeypointsWithBaselineAndOverlay) {
   EXPECT_EQ(static_cast<unsigned char>(jpeg[1]), 0xD8);
 }
 
+// --bootstrap: intervals that hold the whole set's value, a paired difference, the same numbers
+// for the same seed, and nothing but a usage error for a negative count.
+TEST(EvalCliTest, BootstrapIntervalsOfAPAndOfAPairedDifference) {
+  const fs::path out = fresh_temp_dir("eval_bootstrap");
+  write(out / "ours.json", perturbed_results(1.0).dump());
+  write(out / "base.json", perturbed_results(3.0).dump());
+  const std::string command = "eval --gt " + kGt + " --dt " + (out / "ours.json").string() +
+                              " --baseline " + (out / "base.json").string() +
+                              " --bootstrap 200 --bootstrap-seed 3 --out ";
+  const auto r = run_wheelpose(command + (out / "a").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("Keypoint AP, 95% interval of 200 resamples of the images (seed 3)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("| AP | 58.4 ["), std::string::npos) << r.output;
+  const json m = read_json(out / "a" / "metrics.json");
+  ASSERT_EQ(m["bootstrap"].size(), 1u);
+  const json& b = m["bootstrap"][0];
+  EXPECT_EQ(b["type"], "keypoints");
+  EXPECT_EQ(b["samples"], 200);
+  for (const char* part : {"ours", "baseline", "difference"}) {
+    const json& ap = b[part]["AP"];
+    EXPECT_LE(ap["low"].get<double>(), ap["estimate"].get<double>()) << part;
+    EXPECT_GE(ap["high"].get<double>(), ap["estimate"].get<double>()) << part;
+    EXPECT_LT(ap["low"].get<double>(), ap["high"].get<double>()) << part;
+  }
+  EXPECT_NEAR(b["ours"]["AP"]["estimate"].get<double>(), 0.5842527109853842, 1e-12);
+  EXPECT_NEAR(b["difference"]["AP"]["estimate"].get<double>(),
+              0.5842527109853842 - 0.2648275353851175, 1e-12);
+  // The ±1 px model beats the ±3 px one on every resample of these 4 images.
+  EXPECT_GT(b["difference"]["AP"]["low"].get<double>(), 0);
+  const auto again = run_wheelpose(command + (out / "b").string());
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_EQ(read_json(out / "b" / "metrics.json")["bootstrap"], m["bootstrap"]);
+
+  const auto bad = run_wheelpose("eval --gt " + kGt + " --dt " + kBoxes +
+                                 " --type bbox --bootstrap -5 --out " + (out / "c").string());
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("--bootstrap"), std::string::npos) << bad.output;
+  EXPECT_FALSE(fs::exists(out / "c"));
+}
+
 // Each broken input must exit 2 with one line naming the file, the entry and the field.
 struct BadCase {
   const char* name;

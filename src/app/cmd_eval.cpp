@@ -4,6 +4,8 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -13,6 +15,7 @@
 #include "core/coco_data.h"
 #include "core/error.h"
 #include "core/keypoint_template.h"
+#include "eval/bootstrap.h"
 #include "eval/coco_eval.h"
 #include "eval/eval_report.h"
 #include "eval/eval_viz.h"
@@ -31,6 +34,8 @@ struct EvalOptions {
   int viz = 0;
   eval::VizPick viz_pick = eval::VizPick::kSpread;
   std::string images;
+  int bootstrap = 0;
+  std::uint64_t bootstrap_seed = 0;
 };
 
 eval::ResultReport evaluate_file(const std::string& path, const coco::CocoGroundTruth& gt,
@@ -95,12 +100,27 @@ void run_eval(const EvalOptions& o) {
     std::printf("Comparison: %s vs baseline %s\n\n%s", o.dt.c_str(), o.baseline.c_str(),
                 comparison.c_str());
   }
+  nlohmann::json intervals = nlohmann::json::array();
+  for (const auto type : {coco::IouType::kKeypoints, coco::IouType::kBbox}) {
+    if (o.bootstrap == 0 || (type == coco::IouType::kKeypoints ? !keypoints : !bbox)) continue;
+    eval::BootstrapOptions options;
+    options.samples = o.bootstrap;
+    options.seed = o.bootstrap_seed;
+    const eval::BootstrapResult r =
+        eval::bootstrap_ap(gt, *ours_results, base_results.get(), type, t, options);
+    std::printf("\n%s AP, %d%% interval of %d resamples of the images (seed %llu), points:\n\n%s",
+                type == coco::IouType::kKeypoints ? "Keypoint" : "Box",
+                static_cast<int>(std::lround(options.level * 100)), options.samples,
+                static_cast<unsigned long long>(options.seed), eval::bootstrap_markdown(r).c_str());
+    intervals.push_back(eval::bootstrap_json(r));
+  }
   std::fflush(stdout);
   if (o.out.empty()) return;
 
   const std::filesystem::path out(o.out);
   ensure_directory(out);
-  const auto metrics = eval::metrics_json(o.gt, t.name, ours, base ? &*base : nullptr);
+  auto metrics = eval::metrics_json(o.gt, t.name, ours, base ? &*base : nullptr);
+  if (!intervals.empty()) metrics["bootstrap"] = intervals;
   write_file_atomic(out / "metrics.json", metrics.dump(2) + "\n");
   if (base) write_file_atomic(out / "comparison.md", comparison);
   if (o.viz > 0) {
@@ -132,6 +152,12 @@ void attach_eval(CLI::App& parent) {
   cmd->add_option("--baseline", options->baseline,
                   "Second results JSON to compare against (percent change, comparison.md)");
   cmd->add_option("--out", options->out, "Directory for metrics.json, comparison.md and viz/");
+  cmd->add_option("--bootstrap", options->bootstrap,
+                  "Resample the images this many times: 95% intervals of AP and AP50 (and, with "
+                  "--baseline, of the paired difference)")
+      ->check(CLI::Range(0, 1000000));
+  cmd->add_option("--bootstrap-seed", options->bootstrap_seed, "Seed of the resampling")
+      ->capture_default_str();
   cmd->add_option("--viz", options->viz, "Draw this many evenly spaced GT images into OUT/viz")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--viz-pick", options->viz_pick,

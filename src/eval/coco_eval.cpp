@@ -174,13 +174,18 @@ void CocoEvaluator::evaluate() {
   }
 }
 
-void CocoEvaluator::accumulate() {
+void CocoEvaluator::accumulate(const std::vector<int>& image_weights) {
   const std::size_t T = params_.iou_thresholds.size();
   const std::size_t R = params_.recall_thresholds.size();
   const std::size_t K = gt_.category_ids.size();
   const std::size_t A = params_.area_ranges.size();
   const std::size_t M = params_.max_dets.size();
   const std::size_t I = gt_.images.size();
+  if (!image_weights.empty() && image_weights.size() != I) {
+    throw Error("internal: accumulate() got " + std::to_string(image_weights.size()) +
+                    " image weights for " + std::to_string(I) + " images",
+                ErrorKind::kFailure);
+  }
   precision_.assign(T * R * K * A * M, -1.0);
   recall_.assign(T * K * A * M, -1.0);
   constexpr double kEps = 2.220446049250313e-16;  // np.spacing(1)
@@ -202,10 +207,13 @@ void CocoEvaluator::accumulate() {
           const std::size_t index = (k * A + a) * I + i;
           if (!present_[index]) continue;
           const ImageEval& e = evals_[index];
-          used.push_back(&e);
-          const std::size_t n = std::min(max_det, e.dt.size());
-          scores.insert(scores.end(), e.dt_scores.begin(), e.dt_scores.begin() + n);
-          for (auto ig : e.gt_ignore) npig += ig == 0 ? 1 : 0;
+          const int copies = image_weights.empty() ? 1 : image_weights[i];
+          for (int copy = 0; copy < copies; ++copy) {
+            used.push_back(&e);
+            const std::size_t n = std::min(max_det, e.dt.size());
+            scores.insert(scores.end(), e.dt_scores.begin(), e.dt_scores.begin() + n);
+            for (auto ig : e.gt_ignore) npig += ig == 0 ? 1 : 0;
+          }
         }
         if (used.empty() || npig == 0) continue;
         const std::size_t nd = scores.size();

@@ -54,7 +54,10 @@ class CocoEvaluator {
                 const KeypointTemplate& keypoint_template);
 
   void evaluate();
-  void accumulate();
+  // Precision and recall over every image, or over a resample of them: with `image_weights`
+  // (one per ground-truth image, in its order) image i counts that many times, as a bootstrap
+  // draws it.
+  void accumulate(const std::vector<int>& image_weights = {});
   EvalSummary summarize() const;
 
   const EvalParams& params() const { return params_; }
