@@ -23,11 +23,13 @@ double stat_of(const EvalSummary& summary, const std::string& key) {
 struct Samples {
   std::vector<std::vector<double>> values;  // per stat
   std::vector<double> estimates;
+  std::vector<bool> defined;
 
   BootstrapInterval interval(std::size_t stat, const BootstrapOptions& o) {
     std::vector<double>& v = values[stat];
     std::sort(v.begin(), v.end());
-    BootstrapInterval out{bootstrapped_stats()[stat], estimates[stat], -1, -1};
+    BootstrapInterval out{bootstrapped_stats()[stat], estimates[stat], -1, -1, defined[stat],
+                          static_cast<int>(v.size())};
     if (!v.empty()) {
       const double tail = (1 - o.level) / 2;
       out.low = percentile_of_sorted(v, tail);
@@ -74,13 +76,17 @@ BootstrapResult bootstrap_ap(const coco::CocoGroundTruth& gt, const coco::CocoRe
   for (Samples* s : {&ours_samples, &base_samples, &difference_samples}) {
     s->values.assign(keys.size(), {});
     s->estimates.assign(keys.size(), -1);
+    s->defined.assign(keys.size(), false);
   }
   const EvalSummary ours_full = ours_eval.summarize();
   for (std::size_t k = 0; k < keys.size(); ++k) {
     ours_samples.estimates[k] = stat_of(ours_full, keys[k]);
+    ours_samples.defined[k] = ours_samples.estimates[k] >= 0;
     if (base_eval) {
       base_samples.estimates[k] = stat_of(base_eval->summarize(), keys[k]);
+      base_samples.defined[k] = base_samples.estimates[k] >= 0;
       difference_samples.estimates[k] = ours_samples.estimates[k] - base_samples.estimates[k];
+      difference_samples.defined[k] = ours_samples.defined[k] && base_samples.defined[k];
     }
   }
 
@@ -126,7 +132,11 @@ nlohmann::json bootstrap_json(const BootstrapResult& r) {
   const auto intervals = [](const std::vector<BootstrapInterval>& list) {
     nlohmann::json out = nlohmann::json::object();
     for (const BootstrapInterval& i : list) {
-      out[i.key] = {{"estimate", i.estimate}, {"low", i.low}, {"high", i.high}};
+      const bool spread = i.resamples_used > 0;
+      out[i.key] = {{"estimate", i.defined ? nlohmann::json(i.estimate) : nlohmann::json()},
+                    {"low", spread ? nlohmann::json(i.low) : nlohmann::json()},
+                    {"high", spread ? nlohmann::json(i.high) : nlohmann::json()},
+                    {"resamples_used", i.resamples_used}};
     }
     return out;
   };
@@ -144,6 +154,7 @@ nlohmann::json bootstrap_json(const BootstrapResult& r) {
 
 std::string bootstrap_markdown(const BootstrapResult& r) {
   const auto cell = [](const BootstrapInterval& i) {
+    if (!i.defined || i.resamples_used == 0) return std::string("–");
     char text[96];
     std::snprintf(text, sizeof text, "%.1f [%.1f, %.1f]", i.estimate * 100, i.low * 100,
                   i.high * 100);

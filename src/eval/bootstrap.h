@@ -21,12 +21,16 @@ struct BootstrapOptions {
   double level = 0.95;  // the central share of the resampled values the interval holds
 };
 
-// One COCO stat: its value on the whole set and the interval of its resampled values.
+// One COCO stat: its value on the whole set and the interval of its resampled values. A
+// difference can be −1 legitimately, so what is undefined is said, not coded as −1: `estimate`
+// is meaningless unless `defined`, `low` and `high` unless `resamples_used` > 0.
 struct BootstrapInterval {
   std::string key;  // "AP", "AP50", …
   double estimate = -1;
   double low = -1;
   double high = -1;
+  bool defined = false;    // the stat exists on the whole set (for both, in a difference)
+  int resamples_used = 0;  // resamples in which it exists
 };
 
 struct BootstrapResult {
@@ -50,8 +54,9 @@ BootstrapResult bootstrap_ap(const coco::CocoGroundTruth& gt, const coco::CocoRe
 // Linear-interpolated percentile of sorted values (numpy's default), q in [0, 1].
 double percentile_of_sorted(const std::vector<double>& sorted, double q);
 
-// {"type", "samples", "seed", "level", "ours": {stat: {estimate, low, high}}, and with a
-// baseline "baseline" and "difference" alike}; values as fractions, like eval's stats.
+// {"type", "samples", "seed", "level", "ours": {stat: {estimate, low, high, resamples_used}},
+// and with a baseline "baseline" and "difference" alike}; values as fractions, like eval's
+// stats, null where undefined.
 nlohmann::json bootstrap_json(const BootstrapResult& result);
 
 // A Markdown table: stat, ours [low, high], and with a baseline its interval and the paired

@@ -163,8 +163,28 @@ class Planner {
               {"eval", "--gt", files.coco.string(), "--dt", (at / "results.json").string(),
                "--type", s.type, "--out", at.string()}};
         });
-    plan_.scores.push_back({variant, model.name, s.set, s.type, s.size, dir / "metrics.json"});
+    ScoreRef ref{variant, model.name, s.set, s.type, s.size, dir / "metrics.json"};
+    ref.gt = files.coco;
+    ref.results = dir / "results.json";
+    plan_.scores.push_back(ref);
   }
+
+  // Points the scores added since `first` at the `intervals:` baseline scored among them.
+  void link_baseline(std::size_t first, const IntervalSpec& intervals) {
+    const auto end = plan_.scores.end();
+    const auto base = std::find_if(plan_.scores.begin() + first, end,
+                                   [&](const ScoreRef& r) { return r.model == intervals.against; });
+    if (base == end) return;  // the baseline is not scored on this set: no intervals here
+    for (auto it = plan_.scores.begin() + first; it != end; ++it) {
+      if (it == base) continue;
+      it->baseline_results = base->results;
+      it->baseline_model = base->model;
+      it->resamples = intervals.resamples;
+      it->resample_seed = intervals.seed;
+    }
+  }
+
+  std::size_t score_count() const { return plan_.scores.size(); }
 
   Plan finish() {
     for (Step& step : plan_.steps) {
@@ -255,6 +275,7 @@ Plan make_plan(const std::vector<Variant>& variants, const fs::path& out_dir) {
     for (const DatasetSpec& d : v.spec.datasets) planner.dataset(v.spec, d.name);
     if (v.spec.uses_training()) planner.train(v.name, v.spec);
     for (const ScoreSpec& s : v.spec.scores) {
+      const std::size_t first = planner.score_count();
       for (const ModelSpec& m : v.spec.models) {
         if (!s.models.empty() &&
             std::find(s.models.begin(), s.models.end(), m.name) == s.models.end()) {
@@ -262,6 +283,7 @@ Plan make_plan(const std::vector<Variant>& variants, const fs::path& out_dir) {
         }
         planner.score(v.name, v.spec, m, s);
       }
+      if (v.spec.intervals) planner.link_baseline(first, *v.spec.intervals);
     }
   }
   return planner.finish();

@@ -32,6 +32,12 @@ struct ScoreRef {
   std::string variant, model, set, type;
   int size = 0;
   std::filesystem::path metrics;  // metrics.json
+  // With `intervals:` (not for the `against` model itself): the set's ground truth, this
+  // model's and the baseline model's results.json, and the bootstrap's settings.
+  std::filesystem::path gt{}, results{}, baseline_results{};
+  std::string baseline_model{};
+  int resamples = 0;
+  std::uint64_t resample_seed = 0;
 };
 
 struct Plan {

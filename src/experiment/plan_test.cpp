@@ -89,6 +89,37 @@ TEST(ExperimentPlan, CommandsAreWhatTheFileSays) {
                                              "bbox", "--out", score.dir.string()));
 }
 
+// intervals: every score but the baseline's own points at the baseline's results on the same
+// set; a set the baseline is not scored on gets none.
+TEST(ExperimentPlan, IntervalsPairEachScoreWithTheBaselineOnItsSet) {
+  const auto dir = scratch_dir("intervals");
+  const std::string text = std::string(kSmallExperiment) + "intervals: {against: start, seed: 4}\n";
+  const Plan plan =
+      make_plan({parse_experiment(text, "exp.yaml", dir, test_commands())[0]}, dir / "run");
+  const ScoreRef* start = nullptr;
+  for (const ScoreRef& s : plan.scores) {
+    if (s.model == "start") start = &s;
+  }
+  ASSERT_NE(start, nullptr);
+  EXPECT_TRUE(start->baseline_results.empty());
+  EXPECT_EQ(start->gt, dir / "real.json");
+  int paired = 0;
+  for (const ScoreRef& s : plan.scores) {
+    if (s.model == "start") continue;
+    if (s.set == "real") {
+      ++paired;
+      EXPECT_EQ(s.baseline_results, start->results);
+      EXPECT_EQ(s.baseline_model, "start");
+      EXPECT_EQ(s.resamples, 1000);
+      EXPECT_EQ(s.resample_seed, 4u);
+      EXPECT_EQ(s.results, s.metrics.parent_path() / "results.json");
+    } else {
+      EXPECT_TRUE(s.baseline_results.empty()) << s.set;  // only `tuned` is scored there
+    }
+  }
+  EXPECT_EQ(paired, 2);
+}
+
 // A blend's label shows the alpha as written; its command keeps every digit, so the weights are
 // exactly the file's and the steps of runs made before keep their hashes.
 TEST(ExperimentPlan, ABlendIsLabelledByItsAlphaAsWritten) {

@@ -2,13 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <map>
 #include <sstream>
 
 #include "core/atomic_file.h"
+#include "core/coco_data.h"
 #include "core/error.h"
 #include "core/html.h"
+#include "core/keypoint_template.h"
+#include "eval/bootstrap.h"
 
 namespace wheelpose::experiment {
 namespace {
@@ -50,18 +54,88 @@ std::vector<std::pair<std::string, std::vector<json>>> by_set(const json& result
   return groups;
 }
 
-std::vector<std::string> cells(const json& row) {
-  const json kp = row.value("keypoints", json()), box = row.value("bbox", json());
-  return {row["variant"].get<std::string>(),
-          row["model"].get<std::string>(),
-          points(kp, "AP"),
-          points(kp, "AP50"),
-          points(box, "AP"),
-          points(box, "AP50")};
+// A gain and its interval in points, "+1.8 [-1.1, +6.5]"; "–" where there is none.
+std::string gain(const json& row, const char* kind) {
+  if (!row.contains("against") || !row["against"].contains(kind)) return "–";
+  const json& ap = row["against"][kind]["AP"];
+  if (ap["estimate"].is_null() || ap["low"].is_null()) return "–";
+  char text[64];
+  std::snprintf(text, sizeof text, "%+.1f [%+.1f, %+.1f]", ap["estimate"].get<double>() * 100,
+                ap["low"].get<double>() * 100, ap["high"].get<double>() * 100);
+  return text;
 }
 
-const std::vector<std::string> kColumns = {"variant",       "model",  "keypoint AP",
-                                           "keypoint AP50", "box AP", "box AP50"};
+// Which model the gains are over and how they were resampled (the first row that says).
+std::string gains_note(const json& results) {
+  for (const json& row : results["results"]) {
+    if (!row.contains("against")) continue;
+    const json& a = row["against"];
+    return "Gains are over `" + a["model"].get<std::string>() +
+           "` on the same images, with the 95 % interval of a paired bootstrap over the set's " +
+           "images (" + std::to_string(a["resamples"].get<int>()) + " resamples, seed " +
+           std::to_string(a["seed"].get<std::uint64_t>()) +
+           "; `wheelpose eval --bootstrap`): an interval that holds 0 is a gain the set cannot "
+           "tell from chance.";
+  }
+  return "";
+}
+
+bool has_gains(const json& results) {
+  for (const json& row : results["results"]) {
+    if (row.contains("against")) return true;
+  }
+  return false;
+}
+
+std::vector<std::string> cells(const json& row, bool gains) {
+  const json kp = row.value("keypoints", json()), box = row.value("bbox", json());
+  std::vector<std::string> out = {row["variant"].get<std::string>(),
+                                  row["model"].get<std::string>(),
+                                  points(kp, "AP"),
+                                  points(kp, "AP50"),
+                                  points(box, "AP"),
+                                  points(box, "AP50")};
+  if (gains) {
+    out.push_back(gain(row, "keypoints"));
+    out.push_back(gain(row, "bbox"));
+  }
+  return out;
+}
+
+std::vector<std::string> columns(bool gains) {
+  std::vector<std::string> out = {"variant",       "model",  "keypoint AP",
+                                  "keypoint AP50", "box AP", "box AP50"};
+  if (gains) out.insert(out.end(), {"keypoint AP gain [95 %]", "box AP gain [95 %]"});
+  return out;
+}
+
+// What the paired bootstrap says of one score against its baseline's on the same images.
+json gains_against_baseline(const ScoreRef& score,
+                            std::map<std::string, coco::CocoGroundTruth>& ground_truths) {
+  static const KeypointTemplate coco17 = load_keypoint_template("coco17");
+  const bool keypoints = score.type != "bbox";
+  const std::string key = score.gt.string() + (keypoints ? "\n+keypoints" : "");
+  auto at = ground_truths.find(key);
+  if (at == ground_truths.end()) {
+    at = ground_truths.emplace(key, coco::load_coco_gt(score.gt, coco17.size(), keypoints)).first;
+  }
+  const coco::CocoGroundTruth& gt = at->second;
+  const coco::CocoResults ours = coco::load_coco_results(score.results, gt, coco17.size());
+  const coco::CocoResults base = coco::load_coco_results(score.baseline_results, gt, coco17.size());
+  eval::BootstrapOptions options;
+  options.samples = score.resamples;
+  options.seed = score.resample_seed;
+  json out = {{"model", score.baseline_model},
+              {"resamples", score.resamples},
+              {"seed", score.resample_seed}};
+  for (const auto type : {coco::IouType::kKeypoints, coco::IouType::kBbox}) {
+    const bool is_keypoints = type == coco::IouType::kKeypoints;
+    if (is_keypoints ? !keypoints : score.type == "keypoints") continue;
+    const eval::BootstrapResult r = eval::bootstrap_ap(gt, ours, &base, type, coco17, options);
+    out[is_keypoints ? "keypoints" : "bbox"] = eval::bootstrap_json(r)["difference"];
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -81,6 +155,7 @@ std::string project_commit() {
 json collect_results(const ReportInputs& inputs, const Plan& plan,
                      const std::vector<StepRecord>& steps) {
   json rows = json::array();
+  std::map<std::string, coco::CocoGroundTruth> ground_truths;
   for (const ScoreRef& score : plan.scores) {
     std::error_code ec;
     if (!fs::exists(score.metrics, ec)) continue;
@@ -95,6 +170,10 @@ json collect_results(const ReportInputs& inputs, const Plan& plan,
                 {"size", score.size}};
     for (const char* kind : {"keypoints", "bbox"}) {
       if (metrics["results"].contains(kind)) row[kind] = metrics["results"][kind]["stats"];
+    }
+    if (!score.baseline_results.empty() && fs::exists(score.results, ec) &&
+        fs::exists(score.baseline_results, ec)) {
+      row["against"] = gains_against_baseline(score, ground_truths);
     }
     rows.push_back(row);
   }
@@ -130,15 +209,17 @@ std::string report_markdown(const json& results) {
   md << "From `" << results["file"].get<std::string>() << "` at commit "
      << results["commit"].get<std::string>() << "; every number is in results.json. Points are "
      << "COCO AP × 100 (`wheelpose eval`).\n";
+  const bool gains = has_gains(results);
+  if (gains) md << "\n" << gains_note(results) << "\n";
   for (const auto& [title, rows] : by_set(results)) {
     md << "\n## " << title << "\n\n|";
-    for (const std::string& c : kColumns) md << " " << c << " |";
+    for (const std::string& c : columns(gains)) md << " " << c << " |";
     md << "\n|";
-    for (std::size_t i = 0; i < kColumns.size(); ++i) md << "---|";
+    for (std::size_t i = 0; i < columns(gains).size(); ++i) md << "---|";
     md << "\n";
     for (const json& row : rows) {
       md << "|";
-      for (const std::string& c : cells(row)) md << " " << c << " |";
+      for (const std::string& c : cells(row, gains)) md << " " << c << " |";
       md << "\n";
     }
   }
@@ -170,13 +251,15 @@ std::string report_html(const json& results) {
     << "</p>\n<p>From <code>" << html_escape(results["file"].get<std::string>())
     << "</code> at commit <code>" << html_escape(results["commit"].get<std::string>())
     << "</code>. Points are COCO AP &times; 100.</p>\n";
+  const bool gains = has_gains(results);
+  if (gains) h << "<p>" << html_escape(gains_note(results)) << "</p>\n";
   for (const auto& [title, rows] : by_set(results)) {
     h << "<h2>" << html_escape(title) << "</h2>\n<table><tr>";
-    for (const std::string& c : kColumns) h << "<th>" << html_escape(c) << "</th>";
+    for (const std::string& c : columns(gains)) h << "<th>" << html_escape(c) << "</th>";
     h << "</tr>\n";
     for (const json& row : rows) {
       h << "<tr>";
-      for (const std::string& c : cells(row)) h << "<td>" << html_escape(c) << "</td>";
+      for (const std::string& c : cells(row, gains)) h << "<td>" << html_escape(c) << "</td>";
       h << "</tr>\n";
     }
     h << "</table>\n";

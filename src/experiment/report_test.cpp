@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "core/atomic_file.h"
+#include "core/coco_test_fixtures.h"
 #include "experiment/experiment_test_support.h"
 
 namespace wheelpose::experiment {
@@ -59,6 +60,59 @@ TEST(ExperimentReport, TablesHoldEveryScoreByItsSet) {
   write_reports(results, dir);
   EXPECT_EQ(json::parse(read_file(dir / "results.json")), results);
   EXPECT_EQ(read_file(dir / "report.md"), md);
+}
+
+// With a baseline the rows carry the paired bootstrap's gain, and the tables show it.
+TEST(ExperimentReport, GainsOverTheBaselineComeWithTheirIntervals) {
+  namespace fixtures = coco::fixtures;
+  const auto dir = testing::scratch_dir("report_gains");
+  std::vector<long> images;
+  std::vector<json> people, perfect, half;
+  for (int i = 1; i <= 12; ++i) {
+    images.push_back(i);
+    people.push_back(fixtures::gt_person(i, i, 100, 100, 10000));
+    perfect.push_back(fixtures::kp_result(i, 100, 100, 0.9));
+    // The baseline finds the first half of the people; elsewhere it detects nothing there.
+    half.push_back(i <= 6 ? fixtures::kp_result(i, 100, 100, 0.9)
+                          : fixtures::kp_result(i, 900, 900, 0.9));
+  }
+  std::ofstream(dir / "gt.json") << fixtures::gt_file(images, people).dump();
+  std::filesystem::create_directories(dir / "a");
+  std::filesystem::create_directories(dir / "b");
+  std::ofstream(dir / "a" / "results.json") << fixtures::json_list(half).dump();
+  std::ofstream(dir / "b" / "results.json") << fixtures::json_list(perfect).dump();
+  Plan plan;
+  plan.scores = {{"base", "pretrained", "real", "keypoints", 0, dir / "a" / "metrics.json"},
+                 {"base", "tuned", "real", "keypoints", 0, dir / "b" / "metrics.json"}};
+  for (ScoreRef& s : plan.scores) {
+    s.gt = dir / "gt.json";
+    s.results = s.metrics.parent_path() / "results.json";
+  }
+  plan.scores[1].baseline_results = plan.scores[0].results;
+  plan.scores[1].baseline_model = "pretrained";
+  plan.scores[1].resamples = 200;
+  plan.scores[1].resample_seed = 1;
+  write_metrics(plan.scores[0].metrics, 0.5, -1);
+  write_metrics(plan.scores[1].metrics, 1.0, -1);
+  const ReportInputs inputs{"gains", "", "name: gains\n", "abc", "exp.yaml", {"base"}};
+  const json results = collect_results(inputs, plan, {});
+  EXPECT_FALSE(results["results"][0].contains("against"));
+  const json& against = results["results"][1]["against"];
+  EXPECT_EQ(against["model"], "pretrained");
+  EXPECT_EQ(against["resamples"], 200);
+  EXPECT_FALSE(against.contains("bbox"));  // a keypoint score
+  const json& ap = against["keypoints"]["AP"];
+  // Every person found against the first half found (precision 1 to recall 0.5: 51 of the
+  // 101 recall thresholds).
+  EXPECT_NEAR(ap["estimate"].get<double>(), 1 - 51.0 / 101, 1e-9);
+  EXPECT_GT(ap["low"].get<double>(), 0.0);
+  EXPECT_LT(ap["low"].get<double>(), ap["high"].get<double>());
+  const std::string md = report_markdown(results);
+  EXPECT_THAT(md, HasSubstr("Gains are over `pretrained`"));
+  EXPECT_THAT(md, HasSubstr("| keypoint AP gain [95 %] | box AP gain [95 %] |"));
+  EXPECT_THAT(md, HasSubstr("| base | pretrained | 50.0 | 90.0 | – | – | – | – |\n"));
+  EXPECT_THAT(md, HasSubstr("| base | tuned | 100.0 | 90.0 | – | – | +49.5 ["));
+  EXPECT_THAT(report_html(results), HasSubstr("<td>+49.5 ["));
 }
 
 }  // namespace

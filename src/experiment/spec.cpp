@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <fstream>
 #include <sstream>
 
@@ -197,6 +198,19 @@ ExperimentSpec parse_spec(const ConfigNode& root, const fs::path& base_dir,
   if (!scores.is_sequence() || scores.size() == 0) scores.fail("expected a list of sets to score");
   for (std::size_t i = 0; i < scores.size(); ++i) {
     spec.scores.push_back(parse_score(scores.element(i), spec));
+  }
+  if (auto intervals = root.optional_child("intervals")) {
+    IntervalSpec iv;
+    const ConfigNode against = intervals->child("against");
+    iv.against = against.as_string();
+    if (std::none_of(spec.models.begin(), spec.models.end(),
+                     [&](const ModelSpec& m) { return m.name == iv.against; })) {
+      against.fail("no model named '" + iv.against + "' under models:");
+    }
+    iv.resamples = static_cast<int>(intervals->get_int("resamples", 1000, 1, 100000));
+    iv.seed = static_cast<std::uint64_t>(intervals->get_int("seed", 0, 0, INT64_MAX));
+    intervals->finish();
+    spec.intervals = iv;
   }
   root.finish();
   return spec;

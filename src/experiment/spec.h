@@ -64,12 +64,21 @@ struct ScoreSpec {
   std::vector<std::string> models;  // names in ModelSpec; empty = every model
 };
 
+// `intervals:`: how sure each gain is. Every scored model's AP is compared with model `against`
+// on the same set by a paired bootstrap over the set's images (eval --bootstrap), in the reports.
+struct IntervalSpec {
+  std::string against;
+  int resamples = 1000;
+  std::uint64_t seed = 0;
+};
+
 struct ExperimentSpec {
   std::string name, description;
   std::vector<DatasetSpec> datasets;  // in file order
   std::optional<TrainingSpec> training;
   std::vector<ModelSpec> models;
   std::vector<ScoreSpec> scores;
+  std::optional<IntervalSpec> intervals;
 
   const DatasetSpec& dataset(const std::string& name) const;
   bool uses_training() const;

@@ -102,6 +102,13 @@ TEST(ExperimentSpec, BadFilesNameTheFileLineAndKey) {
   EXPECT_THAT(error_of(replaced(text, "val: real-val", "keep: best"), dir),
               HasSubstr("key 'training.keep': best needs a val: set"));
   EXPECT_THAT(error_of("name: x\ndatasets: [oops", dir), HasSubstr("YAML syntax error"));
+  // intervals: a model of the file, a count of resamples in range, no other keys.
+  EXPECT_THAT(error_of(text + "intervals: {against: nobody}\n", dir),
+              HasSubstr("exp.yaml:22: key 'intervals.against': no model named 'nobody'"));
+  EXPECT_THAT(error_of(text + "intervals: {against: start, resamples: 0}\n", dir),
+              HasSubstr("key 'intervals.resamples'"));
+  EXPECT_THAT(error_of(text + "intervals: {against: start, sed: 1}\n", dir),
+              HasSubstr("key 'intervals.sed': unknown key"));
   EXPECT_EQ(error_of(text, dir), "");
 }
 
