@@ -67,17 +67,22 @@ rm -rf "$staging" "$staging_full"
 "$wp" -q model export "$blended" --out "$staging"
 "$wp" -q model export "$trained" --out "$staging_full"
 
-# row LABEL SET BEFORE AFTER [SIZE]: "| LABEL | before → after (change) |" for keypoint AP, box
-# AP and box AP50, from the results of models BEFORE and AFTER on SET (at input SIZE, 0 = default).
+# row LABEL SET BEFORE AFTER [SIZE]: "| LABEL | before → after (change [95 % interval]) |" for
+# keypoint AP, box AP and box AP50, from the results of models BEFORE and AFTER on SET (at input
+# SIZE, 0 = default); the interval is the experiment's paired bootstrap (`intervals:`), when it
+# was made against BEFORE.
 row() {
   jq -r --arg name "$1" --arg set "$2" --arg before "$3" --arg after "$4" --argjson size "${5:-0}" '
     def pick(m): [.results[] | select(.set == $set and .model == m and .size == $size)] | first;
     def p(x): if x == null or x < 0 then "–" else (x * 1000 | round / 10 | tostring) end;
-    def d(a; b): if a == null or b == null or a < 0 or b < 0 then "–"
-      else ((a - b) * 1000 | round / 10 | if . > 0 then "+\(.)" else tostring end) end;
-    def cell(a; b): "\(p(a)) → \(p(b)) (\(d(b; a)))";
+    def signed: (. * 1000 | round / 10 | if . > 0 then "+\(.)" else tostring end);
+    def d(a; b): if a == null or b == null or a < 0 or b < 0 then "–" else (a - b | signed) end;
+    def iv(y; kind; stat): y.against as $g
+      | if $g == null or $g.model != $before or $g[kind] == null or $g[kind][stat].low == null
+        then "" else " [\($g[kind][stat].low | signed), \($g[kind][stat].high | signed)]" end;
+    def cell(a; b; i): "\(p(a)) → \(p(b)) (\(d(b; a))\(if d(b; a) == "–" then "" else i end))";
     pick($before) as $x | pick($after) as $y
-    | "| \($name) | \(cell($x.keypoints.AP; $y.keypoints.AP)) | \(cell($x.bbox.AP; $y.bbox.AP)) | \(cell($x.bbox.AP50; $y.bbox.AP50)) |"
+    | "| \($name) | \(cell($x.keypoints.AP; $y.keypoints.AP; iv($y; "keypoints"; "AP"))) | \(cell($x.bbox.AP; $y.bbox.AP; iv($y; "bbox"; "AP"))) | \(cell($x.bbox.AP50; $y.bbox.AP50; iv($y; "bbox"; "AP50"))) |"
   ' "$results"
 }
 # generate_step SET: the folder of the step that generated SET.
@@ -184,10 +189,11 @@ $train_seconds s on this machine ($(nproc) cores, $(grep -m1 'model name' /proc/
 
 ## Results
 
-Pretrained → this model (change), in points, at \`predict\`'s default input (256 and 640
-merged), the lexra/wheelchair photos at \`--size 256\` (their best single size). Keypoint AP
-needs keypoint labels; real photo sets with boxes only have box AP, the COCO people are
-scored on keypoints only.
+Pretrained → this model (change [95 % interval of the change: a paired bootstrap over the
+set's images, \`wheelpose eval --bootstrap\`]), in points, at \`predict\`'s default input (256
+and 640 merged), the lexra/wheelchair photos at \`--size 256\` (their best single size). Keypoint
+AP needs keypoint labels; real photo sets with boxes only have box AP, the COCO people are
+scored on keypoints only. An interval that holds 0 is a change the set cannot tell from chance.
 
 | test set | keypoint AP | box AP | box AP50 |
 |---|---|---|---|
