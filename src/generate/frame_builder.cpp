@@ -400,16 +400,27 @@ std::vector<KeypointAnchor> resolve_anchors(const KeypointTemplate& keypoint_tem
 
 namespace {
 
-// Whether `point` lies within kCameraClearance of the box around `mesh` placed by `transform`.
-bool near_the_camera(const scene::Mesh& mesh, const Eigen::Matrix4f& transform,
-                     const Vector3f& point) {
-  constexpr float kCameraClearance = 0.3f;  // metres
+Eigen::AlignedBox3f world_box(const scene::Mesh& mesh, const Eigen::Matrix4f& transform) {
   Eigen::AlignedBox3f box;
   for (const Vector3f& v : mesh.positions) box.extend((transform * v.homogeneous()).head<3>());
-  return !box.isEmpty() && box.exteriorDistance(point) < kCameraClearance;
+  return box;
+}
+
+// Whether `camera` stands within kCameraClearance of an object's box.
+bool near_the_camera(const Eigen::AlignedBox3f& box, const Vector3f& camera) {
+  constexpr float kCameraClearance = 0.3f;  // metres
+  return !box.isEmpty() && box.exteriorDistance(camera) < kCameraClearance;
 }
 
 }  // namespace
+
+bool leaves_out_the_same_objects(const BuiltFrame& frame, const Vector3f& camera,
+                                 const Vector3f& other) {
+  for (const Eigen::AlignedBox3f& box : frame.room_object_boxes) {
+    if (near_the_camera(box, camera) != near_the_camera(box, other)) return false;
+  }
+  return true;
+}
 
 BuiltFrame build_frame(const FrameDraft& draft, const body::BodyData& body_data,
                        const std::vector<motion::SeatedClip>& clips,
@@ -443,9 +454,10 @@ BuiltFrame build_frame(const FrameDraft& draft, const body::BodyData& body_data,
     // A room's camera stands near an end wall, where furniture stands too: an object around
     // the camera would fill the frame (2.5 % of the realistic scenario's frames were black, the
     // camera inside a wardrobe), so it is left out.
-    if (draft.environment == EnvironmentKind::kRoom &&
-        near_the_camera(s.meshes[static_cast<std::size_t>(mesh)], transform, s.camera.position)) {
-      continue;
+    if (draft.environment == EnvironmentKind::kRoom) {
+      built.room_object_boxes.push_back(
+          world_box(s.meshes[static_cast<std::size_t>(mesh)], transform));
+      if (near_the_camera(built.room_object_boxes.back(), s.camera.position)) continue;
     }
     scene::Material m = o.material;
     m.name = "object_" + std::to_string(i + 1);

@@ -47,7 +47,15 @@ struct LabelPerson {
 struct BuiltFrame {
   scene::Scene scene;
   std::vector<LabelPerson> people;
+  // Rooms: the world box of every drafted object, those left out around the camera included.
+  std::vector<Eigen::AlignedBox3f> room_object_boxes;
 };
+
+// Whether a room's frame seen from `other` leaves out the objects it leaves out from `camera`
+// (those within 0.3 m of it): then the frame built for one camera is, with the camera
+// replaced, the frame built for the other (framing moves the camera without a rebuild).
+bool leaves_out_the_same_objects(const BuiltFrame& frame, const Eigen::Vector3f& camera,
+                                 const Eigen::Vector3f& other);
 
 // Per keypoint of `keypoint_template`: which point of a body it is. Throws Error naming the
 // template and keypoint for an anchor we cannot resolve.

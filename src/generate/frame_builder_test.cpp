@@ -160,6 +160,29 @@ TEST(FrameBuilder, ObjectsAroundTheRoomCameraAreLeftOut) {
             (std::vector<std::string>{"object_1", "object_2"}));
 }
 
+// Framing moves the camera without a rebuild when the other camera leaves out the same objects:
+// the frame built for one camera with the other put in is the frame built for the other.
+TEST(FrameBuilder, ACameraThatLeavesOutTheSameObjectsNeedsNoRebuild) {
+  FrameDraft draft = room_draft();
+  draft.camera.position = Vector3f(-2, 1.2f, 3);
+  ObjectDraft around_camera;
+  around_camera.position = Vector3f(-2, 0, 3.4f);  // left out from the first camera only
+  draft.objects.push_back(around_camera);
+  const BuiltFrame first = build_frame(draft, body_data(), {}, {});
+  ASSERT_EQ(first.room_object_boxes.size(), draft.objects.size());
+
+  FrameDraft moved = draft;
+  moved.camera.position = Vector3f(-2.1f, 1.3f, 3.1f);  // still beside the same box
+  EXPECT_TRUE(leaves_out_the_same_objects(first, draft.camera.position, moved.camera.position));
+  BuiltFrame reused = first;
+  reused.scene.camera = moved.camera;
+  EXPECT_TRUE(reused.scene == build_frame(moved, body_data(), {}, {}).scene);
+
+  moved.camera.position = Vector3f(2, 1.2f, 3);  // the box is kept from here
+  EXPECT_FALSE(leaves_out_the_same_objects(first, draft.camera.position, moved.camera.position));
+  EXPECT_FALSE(reused.scene == build_frame(moved, body_data(), {}, {}).scene);
+}
+
 // Outdoors the room's layout stands on open ground: one ground plane to the horizon, no walls
 // or ceiling, the furniture on it as in a room.
 TEST(FrameBuilder, OutdoorFramesHaveGroundAndNoWalls) {

@@ -10,6 +10,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <memory>
 #include <mutex>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -21,6 +22,7 @@
 #include "core/error.h"
 #include "dataset/coco_file.h"
 #include "generate/frame_builder.h"
+#include "generate/framing.h"
 #include "generate/labeler.h"
 #include "render/frame_io.h"
 #include "render/renderer.h"
@@ -222,13 +224,35 @@ RunSummary run_generate(const Scenario& scenario, const RunOptions& options,
       stage_start = now;
     };
     const std::int64_t frame = pending[i];
-    const FrameDraft draft = draft_frame(scenario, options.seed, frame, context);
+    FrameDraft draft = draft_frame(scenario, options.seed, frame, context);
     stage_done(kDraft);
-    const BuiltFrame built = build_frame(draft, body_data, clips, scenario.anchors, &furniture);
+    BuiltFrame built = build_frame(draft, body_data, clips, scenario.anchors, &furniture);
     stage_done(kBuild);
-    render::Renderer renderer(built.scene);
+    auto renderer = std::make_unique<render::Renderer>(built.scene);
     stage_done(kBvh);
-    const render::FrameBuffers buffers = renderer.render(scenario.render_options());
+    if (scenario.framing.attempts > 1) {
+      // Framing's ray casts count as drafting; a rare second build as building.
+      const int draw =
+          choose_camera_draw(scenario, options.seed, frame, context, draft, built, *renderer);
+      stage_done(kDraft);
+      if (draw > 0) {
+        FrameDraft redrawn = draft_frame(scenario, options.seed, frame, context, draw);
+        if (leaves_out_the_same_objects(built, draft.camera.position, redrawn.camera.position)) {
+          // Only the camera differs from the frame built: build_frame(redrawn) would give this.
+          built.scene.camera = redrawn.camera;
+          renderer->set_camera(redrawn.camera);
+          draft = std::move(redrawn);
+        } else {
+          draft = std::move(redrawn);
+          built = build_frame(draft, body_data, clips, scenario.anchors, &furniture);
+          stage_done(kBuild);
+          renderer = std::make_unique<render::Renderer>(built.scene);
+          stage_done(kBvh);
+        }
+      }
+      draft.image_attributes["camera_draws"] = draw + 1;
+    }
+    const render::FrameBuffers buffers = renderer->render(scenario.render_options());
     stage_done(kRender);
     FrameLabels labels = label_frame(built, buffers, label_options);
     dropped += labels.dropped_people;

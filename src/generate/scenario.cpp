@@ -3,6 +3,7 @@
 #include "generate/scenario.h"
 
 #include <limits>
+#include <string_view>
 
 #include "core/error.h"
 
@@ -80,6 +81,14 @@ Scenario Scenario::from_config(const ConfigNode& root) {
   } else {
     resolve_template(s);
   }
+  if (auto framing = root.optional_child("framing")) {
+    s.framing.attempts = static_cast<int>(framing->get_int("attempts", s.framing.attempts, 1, 64));
+    s.framing.min_visible_share =
+        framing->get_double("min_visible_share", s.framing.min_visible_share, 0.0, 1.0);
+    s.framing.min_keypoints =
+        static_cast<int>(framing->get_int("min_keypoints", s.framing.min_keypoints, 1, 1000));
+    framing->finish();
+  }
   std::optional<ConfigNode> section = root.optional_child("randomizers");
   if (section && !section->is_null() && !section->is_map()) {
     section->fail("expected a map from randomizer name to its settings");
@@ -135,6 +144,11 @@ nlohmann::ordered_json Scenario::to_json() const {
                  {"ground_truth_maps", ground_truth_maps}};
   // Written only when not the default, so the scenarios of earlier runs read back unchanged.
   if (box_holds_wheelchair) j["labels"]["box"] = "person_and_wheelchair";
+  if (framing.attempts > 1) {
+    j["framing"] = {{"attempts", framing.attempts},
+                    {"min_visible_share", framing.min_visible_share},
+                    {"min_keypoints", framing.min_keypoints}};
+  }
   nlohmann::ordered_json r = nlohmann::ordered_json::object();
   for (const Active& a : randomizers) r[a.entry->name] = a.randomizer->parameters();
   j["randomizers"] = std::move(r);
@@ -142,12 +156,15 @@ nlohmann::ordered_json Scenario::to_json() const {
 }
 
 FrameDraft draft_frame(const Scenario& scenario, std::uint64_t seed, std::int64_t index,
-                       const RandomizerContext& context) {
+                       const RandomizerContext& context, int camera_draw) {
   FrameDraft draft;
   draft.index = index;
   draft.seed = seed;
   for (const Scenario::Active& a : scenario.randomizers) {
     RandomStream rng(seed, {"frame", static_cast<std::uint64_t>(index), a.entry->name});
+    if (camera_draw > 0 && std::string_view(a.entry->name) == "Camera") {
+      rng = rng.child({"draw", camera_draw});
+    }
     a.randomizer->apply(draft, rng, context);
   }
   return draft;

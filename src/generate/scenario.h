@@ -5,6 +5,7 @@
 //   image: {width, height, spp, light_samples, denoise_radius, adaptive_contrast, jpeg_quality,
 //           bounce}
 //   labels: {keypoint_template, min_visible_pixels, segmentation, ground_truth_maps, box}
+//   framing: {attempts, min_visible_share, min_keypoints}   (generate/framing.h)
 //   randomizers: {<Name>: {enabled: bool, <parameter>: <value or distribution>, ...}}
 //
 // Unknown sections, randomizers and keys are errors naming file:line:key.
@@ -37,6 +38,14 @@ struct Scenario {
   bool ground_truth_maps = false;  // depth/normal/instance/semantic PNGs per frame
   // A seated person's `bbox` holds their wheelchair too (LabelOptions::box_holds_wheelchair).
   bool box_holds_wheelchair = false;
+  // Camera framing (generate/framing.h): up to `attempts` camera draws (1 = the first, no
+  // framing) until every person with at least `min_keypoints` keypoints in the image shows at
+  // least `min_visible_share` of them unhidden.
+  struct Framing {
+    int attempts = 1;
+    double min_visible_share = 0.7;
+    int min_keypoints = 5;
+  } framing;
 
   struct Active {
     const RandomizerEntry* entry;
@@ -57,8 +66,10 @@ struct Scenario {
   nlohmann::ordered_json to_json() const;
 };
 
-// Randomizes frame `index`: every active randomizer in order, each with its own stream.
+// Randomizes frame `index`: every active randomizer in order, each with its own stream. Camera
+// draws after the first (`camera_draw` > 0, framing) give the Camera randomizer a stream of
+// its own per draw; every other randomizer draws the same.
 FrameDraft draft_frame(const Scenario& scenario, std::uint64_t seed, std::int64_t index,
-                       const RandomizerContext& context);
+                       const RandomizerContext& context, int camera_draw = 0);
 
 }  // namespace wheelpose::generate

@@ -152,6 +152,89 @@ TEST(Scenario, ReconfiguringOneRandomizerLeavesTheOthersDrawsAlone) {
   EXPECT_FALSE(fa.post == fb.post);
 }
 
+// A later camera draw (framing) redraws the camera alone: every other randomizer draws the same,
+// and draw 0 is the frame as it always was.
+TEST(Scenario, ALaterCameraDrawChangesOnlyTheCamera) {
+  const Scenario s = Scenario::from_config(ConfigNode::load_string(
+      "randomizers:\n  Environment: {room_probability: 1}\n  Camera: {room_walls: all}\n",
+      "rooms.yaml"));
+  const auto ctx = small_context();
+  for (int frame = 0; frame < 6; ++frame) {
+    const FrameDraft first = draft_frame(s, 4, frame, ctx);
+    const FrameDraft again = draft_frame(s, 4, frame, ctx, 0);
+    const FrameDraft second = draft_frame(s, 4, frame, ctx, 1);
+    EXPECT_EQ(first.camera, again.camera);
+    EXPECT_FALSE(second.camera == first.camera) << frame;
+    EXPECT_EQ(second.sun, first.sun);
+    EXPECT_EQ(second.post, first.post);
+    ASSERT_EQ(second.people.size(), first.people.size());
+    for (std::size_t i = 0; i < first.people.size(); ++i) {
+      EXPECT_EQ(second.people[i].position, first.people[i].position);
+      EXPECT_EQ(second.people[i].clip, first.people[i].clip);
+    }
+    EXPECT_EQ(draft_frame(s, 4, frame, ctx, 1).camera, second.camera);
+  }
+}
+
+// With `room_walls: all` the camera stands by a side wall about half of the time, looking into
+// the room; by default always by an end wall.
+TEST(Scenario, RoomCameraStandsByTheWallsItIsGiven) {
+  const auto ctx = small_context();
+  auto side_wall_share = [&](const std::string& walls) {
+    const Scenario s = Scenario::from_config(ConfigNode::load_string(
+        "randomizers:\n  Environment: {room_probability: 1}\n  Camera: {room_walls: " + walls +
+            "}\n",
+        "rooms.yaml"));
+    int side = 0;
+    constexpr int kFrames = 200;
+    for (int frame = 0; frame < kFrames; ++frame) {
+      const FrameDraft d = draft_frame(s, 9, frame, ctx);
+      const Eigen::Vector2f half = 0.5f * d.room.size;
+      const Eigen::Vector3f& eye = d.camera.position;
+      const bool by_side = std::abs(std::abs(eye.x()) - 0.9f * half.x()) < 1e-4f;
+      const bool by_end = std::abs(std::abs(eye.z()) - 0.9f * half.y()) < 1e-4f;
+      EXPECT_TRUE(by_side || by_end) << walls << " frame " << frame;
+      side += by_side;
+    }
+    return static_cast<double>(side) / kFrames;
+  };
+  EXPECT_EQ(side_wall_share("ends"), 0.0);
+  EXPECT_NEAR(side_wall_share("all"), 0.5, 0.1);
+  EXPECT_EQ(Scenario::defaults().to_json()["randomizers"]["Camera"].count("room_walls"), 0u);
+}
+
+// framing: read, range-checked, recorded only when on (so earlier runs' records read back the
+// same), and read back from the record.
+TEST(Scenario, FramingIsCheckedAndRecordedOnlyWhenOn) {
+  auto message = [](const std::string& yaml) {
+    try {
+      Scenario::from_config(ConfigNode::load_string(yaml, "f.yaml"));
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message("framing: {attempts: 0}\n").find("attempts"), std::string::npos);
+  EXPECT_NE(message("framing: {attempts: 0}\n").find("f.yaml:1"), std::string::npos);
+  EXPECT_NE(message("framing: {min_visible_share: 1.5}\n").find("min_visible_share"),
+            std::string::npos);
+  EXPECT_NE(message("framing: {tries: 3}\n").find("tries"), std::string::npos);
+  EXPECT_NE(message("randomizers:\n  Camera: {room_walls: some}\n").find("room_walls"),
+            std::string::npos);
+  const Scenario on = Scenario::from_config(ConfigNode::load_string(
+      "framing: {attempts: 6, min_visible_share: 0.8, min_keypoints: 7}\n", "f.yaml"));
+  EXPECT_EQ(on.framing.attempts, 6);
+  const std::string recorded = "framing: " + on.to_json()["framing"].dump() + "\n";
+  const Scenario back = Scenario::from_config(ConfigNode::load_string(recorded, "record"));
+  EXPECT_EQ(back.framing.attempts, 6);
+  EXPECT_EQ(back.framing.min_visible_share, 0.8);
+  EXPECT_EQ(back.framing.min_keypoints, 7);
+  EXPECT_FALSE(Scenario::defaults().to_json().contains("framing"));
+  EXPECT_FALSE(Scenario::from_config(ConfigNode::load_string("framing: {attempts: 1}\n", "f"))
+                   .to_json()
+                   .contains("framing"));
+}
+
 TEST(Sharding, ShardsPartitionTheFrames) {
   for (std::int64_t n : {1, 5, 7, 100}) {
     for (int count : {1, 2, 3, 8}) {

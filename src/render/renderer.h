@@ -112,6 +112,10 @@ class Renderer {
 
   FrameBuffers render(const RenderOptions& options = {});
 
+  // Renders from another camera from now on: the ray-tracing structure and the textures do not
+  // depend on the camera, so nothing is rebuilt (generate's framing moves the camera this way).
+  void set_camera(const scene::Camera& camera) { scene_.camera = camera; }
+
   // First surface along the ray from the camera toward `point` (no distance limit). The point
   // is visible when the hit distance is at least ‖point − camera‖ minus a tolerance.
   RayQuery first_hit_toward(const Eigen::Vector3f& point) const;
