@@ -249,7 +249,7 @@ $made
 
 Pretrained MoveNet with \`--flip\` → the ensemble with \`--flip\` (change), in points, the
 real photos at \`--size 256\` (their best single size), the generated sets at \`predict\`'s
-default input; scored with \`$(basename "$trained")\` (float32; the shipped file holds float16).
+default input; scored as shipped (the export of \`$(basename "$trained")\`, float16 weights).
 
 | test set | keypoint AP | box AP | box AP50 |
 |---|---|---|---|

@@ -76,6 +76,16 @@ TEST(ExperimentCli, QuickRunSurvivesAKillAndReportsWhatPredictAndEvalSay) {
   EXPECT_EQ(refused.exit_code, 2);
   EXPECT_NE(refused.output.find("holds an experiment run"), std::string::npos) << refused.output;
 
+  // The blend was scored from its export (float16 TF.js files), one per variant.
+  int exports = 0;
+  for (const auto& entry : fs::directory_iterator(out / "steps")) {
+    if (!entry.path().filename().string().starts_with("export-")) continue;
+    ++exports;
+    EXPECT_TRUE(fs::exists(entry.path() / "model" / "model.json"));
+    EXPECT_TRUE(fs::exists(entry.path() / "model" / "group1-shard1of1.bin"));
+  }
+  EXPECT_EQ(exports, 2);
+
   // Training changed the weights: the fine-tuned rows are not the pretrained one.
   EXPECT_NE(results["results"][0]["keypoints"], results["results"][1]["keypoints"]);
   EXPECT_EQ(results["results"][0]["model"], "pretrained");

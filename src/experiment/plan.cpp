@@ -126,6 +126,21 @@ class Planner {
   std::string member_model(const std::string& variant, const ExperimentSpec& spec,
                            const ModelSpec& model, const std::string& member) {
     if (member != "trained") return member;
+    const std::string weights = trained_or_blended(variant, spec, model);
+    if (!model.exported) return weights;
+    const std::string what = model.blend && *model.blend != 1
+                                 ? "blend " + variant + " " + shortest_number_text(*model.blend)
+                                 : "train " + variant;
+    const fs::path dir = add("export", variant, "export " + what, false, [&](const fs::path& at) {
+      return std::vector<std::vector<std::string>>{
+          {"model", "export", weights, "--out", (at / "model").string()}};
+    });
+    return (dir / "model" / "model.json").string();
+  }
+
+  // The trained weights, or their blend with the start model when the model asks for one.
+  std::string trained_or_blended(const std::string& variant, const ExperimentSpec& spec,
+                                 const ModelSpec& model) {
     const fs::path weights = trained_weights_.at(variant);
     if (!model.blend || *model.blend == 1) return weights.string();
     std::string start = "movenet-multipose";

@@ -175,5 +175,40 @@ TEST(ExperimentPlan, AnEditedInputFileIsANewStep) {
   EXPECT_NE(ids_of(relabelled, "split"), ids_of(after, "split"));
 }
 
+// export: the trained (or blended) weights are scored as `model export` writes them, the form a
+// model ships in; the export step follows the blend it reads.
+TEST(ExperimentPlan, AnExportedModelIsScoredFromItsExport) {
+  const auto dir = scratch_dir("export");
+  std::string text = kSmallExperiment;
+  text.replace(text.find("blend: 0.5}"), 11, "blend: 0.5, export: true}");
+  const Plan plan =
+      make_plan({parse_experiment(text, "exp.yaml", dir, test_commands())[0]}, dir / "run");
+  const auto find = [&](const std::string& kind) {
+    return std::find_if(plan.steps.begin(), plan.steps.end(),
+                        [&](const Step& s) { return s.kind == kind; });
+  };
+  const auto blend = find("blend"), exported = find("export");
+  ASSERT_NE(exported, plan.steps.end());
+  EXPECT_LT(blend, exported);
+  EXPECT_EQ(exported->label, "export blend base 0.5");
+  EXPECT_THAT(exported->commands[0],
+              ElementsAre("model", "export", (blend->dir / "blend.pt").string(), "--out",
+                          (exported->dir / "model").string()));
+  int from_export = 0;
+  for (const Step& s : plan.steps) {
+    if (s.kind != "score" || s.label.find("score half ") != 0) continue;
+    const auto& predict = s.commands[0];
+    const auto model = std::find(predict.begin(), predict.end(), "--model");
+    ASSERT_NE(model, predict.end());
+    EXPECT_EQ(model[1], (exported->dir / "model" / "model.json").string());
+    ++from_export;
+  }
+  EXPECT_EQ(from_export, 1);
+  // The other trained model is scored from its weights as before.
+  EXPECT_EQ(std::count_if(plan.steps.begin(), plan.steps.end(),
+                          [](const Step& s) { return s.kind == "export"; }),
+            1);
+}
+
 }  // namespace
 }  // namespace wheelpose::experiment

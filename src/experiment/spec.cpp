@@ -139,6 +139,7 @@ ModelSpec parse_model(const std::string& name, const ConfigNode& node, const fs:
   }
   if (node.has("blend")) m.blend = node.get_double("blend", 1, 0, 1);
   m.flip = node.get_bool("flip", false);
+  m.exported = node.get_bool("export", false);
   node.finish();
   return m;
 }
@@ -193,6 +194,7 @@ ExperimentSpec parse_spec(const ConfigNode& root, const fs::path& base_dir,
     const bool trains = std::count(m.members.begin(), m.members.end(), kTrainedModel) > 0;
     if (trains && !spec.training) models.child(name).fail("'trained' needs a training: section");
     if (m.blend && !trains) models.child(name).fail("blend: applies to a 'trained' member");
+    if (m.exported && !trains) models.child(name).fail("export: applies to a 'trained' member");
   }
   const ConfigNode scores = root.child("scores");
   if (!scores.is_sequence() || scores.size() == 0) scores.fail("expected a list of sets to score");

@@ -55,6 +55,9 @@ struct ModelSpec {
   std::vector<std::string> members;
   std::optional<double> blend;  // alpha for `trained` members
   bool flip = false;
+  // `trained` members scored as `model export` writes them (a TF.js model with float16
+  // weights): the form a model ships in, so a candidate compares like with a shipped model.
+  bool exported = false;
 };
 
 struct ScoreSpec {

@@ -102,6 +102,12 @@ TEST(ExperimentSpec, BadFilesNameTheFileLineAndKey) {
   EXPECT_THAT(error_of(replaced(text, "val: real-val", "keep: best"), dir),
               HasSubstr("key 'training.keep': best needs a val: set"));
   EXPECT_THAT(error_of("name: x\ndatasets: [oops", dir), HasSubstr("YAML syntax error"));
+  EXPECT_THAT(
+      error_of(replaced(text, "start: model.json", "start: {members: model.json, export: true}"),
+               dir),
+      HasSubstr("key 'models.start': export: applies to a 'trained' member"));
+  EXPECT_THAT(error_of(replaced(text, "blend: 0.5}", "blend: 0.5, export: yes please}"), dir),
+              HasSubstr("key 'models.half.export'"));
   // intervals: a model of the file, a count of resamples in range, no other keys.
   EXPECT_THAT(error_of(text + "intervals: {against: nobody}\n", dir),
               HasSubstr("exp.yaml:22: key 'intervals.against': no model named 'nobody'"));
