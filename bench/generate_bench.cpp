@@ -11,8 +11,9 @@
 //     configs/boost-realistic.yaml as it is (one diffuse bounce, hair as strands), 4 the same with
 //     the hair as opaque cards (hair_strand_coverage: 1), 5 boost-realistic-train.yaml with the
 //     shutter closed (PhoneCamera.shutter: 0, no motion blur; 2 against 5 is the blur's cost:
-//     each person in a clip built twice, the streak buffer and the filter); counters
-//     ms_per_image and, per
+//     each person in a clip built twice, the streak buffer and the filter), 6 boost-realistic.yaml
+//     before framing (the camera by an end wall, drawn once: 3 against 6 is framing's cost);
+//     counters ms_per_image and, per
 //     stage, the thread time per frame (draft_ms, build_ms, bvh_ms, render_ms, label_ms,
 //     write_ms).
 // Run: build/release/bench/bench_generate
@@ -92,6 +93,11 @@ wheelpose::generate::Scenario realistic_scenario(std::int64_t which) {
   std::ostringstream text;
   text << std::ifstream(file).rdbuf();
   std::string yaml = text.str();
+  if (which == 0 || which == 6) {  // the camera as before framing
+    const std::string walls = "    room_walls: all\n";
+    yaml.erase(yaml.find(walls), walls.size());
+    yaml = yaml.substr(0, yaml.find("\nframing:") + 1);
+  }
   if (which == 0) yaml = yaml.substr(0, yaml.find("  # Photo-real light"));
   if (which == 5) {
     const std::string phone = "  PhoneCamera:\n";
@@ -134,6 +140,7 @@ BENCHMARK(BM_GenerateRealistic)
     ->Arg(3)
     ->Arg(4)
     ->Arg(5)
+    ->Arg(6)
     ->Iterations(1)
     ->UseManualTime()
     ->Unit(benchmark::kSecond);

@@ -9,7 +9,8 @@
 namespace wheelpose::generate {
 
 FramingScore score_framing(const BuiltFrame& frame, const render::Renderer& renderer,
-                           const scene::Camera& camera, int min_keypoints) {
+                           const scene::Camera& camera, int min_keypoints,
+                           double min_visible_share) {
   const scene::Projector proj(camera);
   FramingScore score;
   for (const LabelPerson& person : frame.people) {
@@ -39,6 +40,7 @@ FramingScore score_framing(const BuiltFrame& frame, const render::Renderer& rend
     ++score.people_judged;
     const double share = static_cast<double>(shown) / in_image;
     if (share < score.worst_visible_share) score.worst_visible_share = share;
+    if (share < min_visible_share) ++score.people_short;
   }
   return score;
 }
@@ -48,15 +50,17 @@ int choose_camera_draw(const Scenario& scenario, std::uint64_t seed, std::int64_
                        const BuiltFrame& first_frame, const render::Renderer& renderer) {
   const Scenario::Framing& framing = scenario.framing;
   int best_draw = 0;
-  double best_share = -1.0;
+  FramingScore best;
   for (int draw = 0; draw < framing.attempts; ++draw) {
     const scene::Camera camera =
         draw == 0 ? first_draft.camera : draft_frame(scenario, seed, index, context, draw).camera;
-    const double share =
-        score_framing(first_frame, renderer, camera, framing.min_keypoints).worst_visible_share;
-    if (share >= framing.min_visible_share) return draw;
-    if (share > best_share) {
-      best_share = share;
+    const FramingScore score = score_framing(first_frame, renderer, camera, framing.min_keypoints,
+                                             framing.min_visible_share);
+    if (score.people_short == 0) return draw;
+    if (draw == 0 || score.people_short < best.people_short ||
+        (score.people_short == best.people_short &&
+         score.worst_visible_share > best.worst_visible_share)) {
+      best = score;
       best_draw = draw;
     }
   }

@@ -24,15 +24,18 @@ struct FramingScore {
   // of those keypoints that no surface hides (1 when nobody is judged).
   double worst_visible_share = 1.0;
   int people_judged = 0;
+  int people_short = 0;  // judged people who show less than the share asked for
 };
 
 inline constexpr float kNearClearance = 0.5f;  // metres; above the builder's 0.3 m
 
 FramingScore score_framing(const BuiltFrame& frame, const render::Renderer& renderer,
-                           const scene::Camera& camera, int min_keypoints);
+                           const scene::Camera& camera, int min_keypoints,
+                           double min_visible_share = 1.0);
 
 // The camera draw to keep for frame `index` (0 = the first draw), given the first draw's
-// draft and built frame, under scenario.framing.
+// draft and built frame, under scenario.framing: the first that shows everyone well enough,
+// else the one that leaves the fewest people short (then the best-shown worst person).
 int choose_camera_draw(const Scenario& scenario, std::uint64_t seed, std::int64_t index,
                        const RandomizerContext& context, const FrameDraft& first_draft,
                        const BuiltFrame& first_frame, const render::Renderer& renderer);
