@@ -12,11 +12,9 @@
 namespace wheelpose::eval {
 namespace {
 
+// A stat, or pycocotools' −1 when it is undefined (nothing to score in this resample).
 double stat_of(const EvalSummary& summary, const std::string& key) {
-  for (const StatLine& s : summary.stats) {
-    if (s.key == key) return s.value;
-  }
-  throw Error("internal: no COCO stat " + key, ErrorKind::kFailure);
+  return summary.stat(key).value_or(-1.0);
 }
 
 // Resampled values of each stat, then their interval around the whole set's value.

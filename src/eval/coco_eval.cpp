@@ -300,6 +300,13 @@ double CocoEvaluator::summarize_one(bool ap, double iou_threshold, const std::st
   return numpy_sum(s.data(), s.size()) / static_cast<double>(s.size());
 }
 
+std::optional<double> EvalSummary::stat(const std::string& key) const {
+  for (const StatLine& line : stats) {
+    if (line.key == key) return line.value < 0 ? std::nullopt : std::optional<double>(line.value);
+  }
+  return std::nullopt;
+}
+
 EvalSummary CocoEvaluator::summarize() const {
   if (precision_.empty())
     throw Error("internal: summarize() before accumulate()", ErrorKind::kFailure);

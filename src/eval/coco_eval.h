@@ -4,6 +4,7 @@
 // Matching is done one image at a time, so memory grows with the input, not with its square.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -45,6 +46,10 @@ struct EvalSummary {
   coco::IouType type = coco::IouType::kKeypoints;
   std::vector<StatLine> stats;
   std::string text;  // exactly as pycocotools' summarize() prints it
+
+  // The stat named `key` ("AP", "AP50", ...); nullopt when it is not one of the summary's or
+  // is pycocotools' −1 (nothing to score).
+  std::optional<double> stat(const std::string& key) const;
 };
 
 class CocoEvaluator {

@@ -46,6 +46,10 @@ TEST(CocoEvalTest, PerfectKeypointDetectionScoresOne) {
   // No GT in the medium range: -1, as pycocotools reports empty selections.
   EXPECT_DOUBLE_EQ(r.stat("APm"), -1.0);
   EXPECT_DOUBLE_EQ(r.stat("ARm"), -1.0);
+  // The summary's own lookup: the value, and nothing for −1 or a stat it does not have.
+  EXPECT_EQ(r.summary.stat("AP"), r.stat("AP"));
+  EXPECT_EQ(r.summary.stat("APm"), std::nullopt);
+  EXPECT_EQ(r.summary.stat("APs"), std::nullopt);  // keypoint summaries have no small area
 }
 
 TEST(CocoEvalTest, SummaryTextMatchesPycocotoolsFormat) {

@@ -42,11 +42,7 @@ std::string table_header(std::initializer_list<const char*> extra) {
 }
 
 std::optional<double> stat_value(const std::optional<EvalSummary>& s, const std::string& key) {
-  if (!s) return std::nullopt;
-  for (const auto& line : s->stats) {
-    if (line.key == key) return line.value < 0 ? std::nullopt : std::optional<double>(line.value);
-  }
-  return std::nullopt;
+  return s ? s->stat(key) : std::nullopt;
 }
 
 json summary_json(const EvalSummary& s) {

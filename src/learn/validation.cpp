@@ -16,10 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 
 double stat(const eval::EvalSummary& summary, const std::string& key) {
-  for (const eval::StatLine& line : summary.stats) {
-    if (line.key == key) return std::max(0.0, line.value);  // -1: nothing to score
-  }
-  return 0;
+  return summary.stat(key).value_or(0.0);  // -1: nothing to score
 }
 
 }  // namespace
