@@ -144,6 +144,11 @@ ModelSpec parse_model(const std::string& name, const ConfigNode& node, const fs:
   return m;
 }
 
+bool has_model(const ExperimentSpec& spec, const std::string& name) {
+  return std::any_of(spec.models.begin(), spec.models.end(),
+                     [&](const ModelSpec& m) { return m.name == name; });
+}
+
 ScoreSpec parse_score(const ConfigNode& node, const ExperimentSpec& spec) {
   ScoreSpec s;
   s.set = node.child("set").as_string();
@@ -156,9 +161,9 @@ ScoreSpec parse_score(const ConfigNode& node, const ExperimentSpec& spec) {
   if (auto models = node.optional_child("models")) {
     for (std::size_t i = 0; i < models->size(); ++i) {
       const std::string name = models->element(i).as_string();
-      const bool known = std::any_of(spec.models.begin(), spec.models.end(),
-                                     [&](const ModelSpec& m) { return m.name == name; });
-      if (!known) models->element(i).fail("no model named '" + name + "' under models:");
+      if (!has_model(spec, name)) {
+        models->element(i).fail("no model named '" + name + "' under models:");
+      }
       s.models.push_back(name);
     }
   }
@@ -205,8 +210,7 @@ ExperimentSpec parse_spec(const ConfigNode& root, const fs::path& base_dir,
     IntervalSpec iv;
     const ConfigNode against = intervals->child("against");
     iv.against = against.as_string();
-    if (std::none_of(spec.models.begin(), spec.models.end(),
-                     [&](const ModelSpec& m) { return m.name == iv.against; })) {
+    if (!has_model(spec, iv.against)) {
       against.fail("no model named '" + iv.against + "' under models:");
     }
     iv.resamples = static_cast<int>(intervals->get_int("resamples", 1000, 1, 100000));
