@@ -25,6 +25,17 @@ std::vector<std::string> ids_of(const Plan& plan, const std::string& kind) {
   return ids;
 }
 
+// The plan of `text`'s base variant alone, in a scratch folder named by `tag`.
+Plan base_plan(const std::string& text, const std::string& tag) {
+  const auto dir = scratch_dir(tag);
+  return make_plan({parse_experiment(text, "exp.yaml", dir, test_commands())[0]}, dir / "run");
+}
+
+// `text` with the first `from` replaced by `to`.
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  return text.replace(text.find(from), from.size(), to);
+}
+
 TEST(ExperimentPlan, VariantsShareWhatTheyHaveInCommon) {
   const auto dir = scratch_dir("plan");
   const auto variants = parse_experiment(kSmallExperiment, "exp.yaml", dir, test_commands());
@@ -123,11 +134,7 @@ TEST(ExperimentPlan, IntervalsPairEachScoreWithTheBaselineOnItsSet) {
 // A blend's label shows the alpha as written; its command keeps every digit, so the weights are
 // exactly the file's and the steps of runs made before keep their hashes.
 TEST(ExperimentPlan, ABlendIsLabelledByItsAlphaAsWritten) {
-  const auto dir = scratch_dir("alpha");
-  std::string text = kSmallExperiment;
-  text.replace(text.find("blend: 0.5"), 10, "blend: 0.3");
-  const Plan plan =
-      make_plan({parse_experiment(text, "exp.yaml", dir, test_commands())[0]}, dir / "run");
+  const Plan plan = base_plan(replaced(kSmallExperiment, "blend: 0.5", "blend: 0.3"), "alpha");
   const auto blend = std::find_if(plan.steps.begin(), plan.steps.end(),
                                   [](const Step& s) { return s.kind == "blend"; });
   ASSERT_NE(blend, plan.steps.end());
@@ -178,11 +185,8 @@ TEST(ExperimentPlan, AnEditedInputFileIsANewStep) {
 // export: the trained (or blended) weights are scored as `model export` writes them, the form a
 // model ships in; the export step follows the blend it reads.
 TEST(ExperimentPlan, AnExportedModelIsScoredFromItsExport) {
-  const auto dir = scratch_dir("export");
-  std::string text = kSmallExperiment;
-  text.replace(text.find("blend: 0.5}"), 11, "blend: 0.5, export: true}");
   const Plan plan =
-      make_plan({parse_experiment(text, "exp.yaml", dir, test_commands())[0]}, dir / "run");
+      base_plan(replaced(kSmallExperiment, "blend: 0.5}", "blend: 0.5, export: true}"), "export");
   const auto find = [&](const std::string& kind) {
     return std::find_if(plan.steps.begin(), plan.steps.end(),
                         [&](const Step& s) { return s.kind == kind; });
