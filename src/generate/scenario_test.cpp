@@ -29,6 +29,16 @@ RandomizerContext small_context() {
   return ctx;
 }
 
+// The error reading `yaml` as the scenario file `name` gives, or "no error".
+std::string message(const std::string& yaml, const std::string& name = "s.yaml") {
+  try {
+    Scenario::from_config(ConfigNode::load_string(yaml, name));
+  } catch (const Error& e) {
+    return std::string(e.what());
+  }
+  return std::string("no error");
+}
+
 TEST(Scenario, PaperPresetFileEqualsTheBuiltInDefaults) {
   const Scenario preset = Scenario::from_file(WHEELPOSE_SOURCE_DIR "/configs/wheelpose-paper.yaml");
   EXPECT_EQ(preset.to_json().dump(1), Scenario::defaults().to_json().dump(1));
@@ -36,14 +46,6 @@ TEST(Scenario, PaperPresetFileEqualsTheBuiltInDefaults) {
 }
 
 TEST(Scenario, ErrorsNameFileLineAndKey) {
-  auto message = [](const std::string& yaml) {
-    try {
-      Scenario::from_config(ConfigNode::load_string(yaml, "s.yaml"));
-    } catch (const Error& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
   EXPECT_NE(message("randomizers:\n  Camera: {fov: 3}\n").find("s.yaml:2"), std::string::npos);
   EXPECT_NE(message("randomizers:\n  Camera: {fov: 3}\n").find("fov"), std::string::npos);
   EXPECT_NE(message("randomizers:\n  Nope: {}\n").find("unknown randomizer"), std::string::npos);
@@ -206,16 +208,8 @@ TEST(Scenario, RoomCameraStandsByTheWallsItIsGiven) {
 // framing: read, range-checked, recorded only when on (so earlier runs' records read back the
 // same), and read back from the record.
 TEST(Scenario, FramingIsCheckedAndRecordedOnlyWhenOn) {
-  auto message = [](const std::string& yaml) {
-    try {
-      Scenario::from_config(ConfigNode::load_string(yaml, "f.yaml"));
-    } catch (const Error& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
   EXPECT_NE(message("framing: {attempts: 0}\n").find("attempts"), std::string::npos);
-  EXPECT_NE(message("framing: {attempts: 0}\n").find("f.yaml:1"), std::string::npos);
+  EXPECT_NE(message("framing: {attempts: 0}\n", "f.yaml").find("f.yaml:1"), std::string::npos);
   EXPECT_NE(message("framing: {min_visible_share: 1.5}\n").find("min_visible_share"),
             std::string::npos);
   EXPECT_NE(message("framing: {tries: 3}\n").find("tries"), std::string::npos);
