@@ -451,7 +451,7 @@ BuiltFrame build_frame(const FrameDraft& draft, const body::BodyData& body_data,
     const int mesh = model ? out.furniture_mesh(*furniture, static_cast<std::size_t>(o.furniture))
                            : out.primitive_mesh(object_spec(o.shape));
     const Eigen::Matrix4f transform = trs(o.position, o.rotation, o.scale);
-    // A room's camera stands near an end wall, where furniture stands too: an object around
+    // A room's camera stands near a wall, where furniture stands too: an object around
     // the camera would fill the frame (2.5 % of the realistic scenario's frames were black, the
     // camera inside a wardrobe), so it is left out.
     if (draft.environment == EnvironmentKind::kRoom) {
