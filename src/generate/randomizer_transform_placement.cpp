@@ -15,7 +15,8 @@ class TransformPlacement final : public Randomizer {
         ry_(sampler_or(c, "rotation_y", ScalarSampler::uniform(0, 360))),
         rz_(sampler_or(c, "rotation_z", ScalarSampler::uniform(0, 20))),
         size_(sampler_or(c, "size", ScalarSampler::uniform(0.5, 3), 0.01, 100)),
-        room_separation_(number_or(c, "room_separation", 1.2, 0.3, 100)) {}
+        room_separation_(number_or(c, "room_separation", 1.2, 0.3, 100)),
+        room_heading_spread_(number_or(c, "room_heading_spread", 360, 0, 360)) {}
 
   void apply(FrameDraft& f, RandomStream& rng, const RandomizerContext&) const override {
     if (f.environment == EnvironmentKind::kRoom) {
@@ -34,10 +35,14 @@ class TransformPlacement final : public Randomizer {
   }
 
   nlohmann::ordered_json parameters() const override {
-    return {{"x", x_.describe()},           {"y", y_.describe()},
-            {"z", z_.describe()},           {"rotation_x", rx_.describe()},
-            {"rotation_y", ry_.describe()}, {"rotation_z", rz_.describe()},
-            {"size", size_.describe()},     {"room_separation", room_separation_}};
+    nlohmann::ordered_json j = {
+        {"x", x_.describe()},           {"y", y_.describe()},
+        {"z", z_.describe()},           {"rotation_x", rx_.describe()},
+        {"rotation_y", ry_.describe()}, {"rotation_z", rz_.describe()},
+        {"size", size_.describe()},     {"room_separation", room_separation_}};
+    // Recorded only when narrowed, so that earlier runs' records stay as they were.
+    if (room_heading_spread_ < 360) j["room_heading_spread"] = room_heading_spread_;
+    return j;
   }
 
  private:
@@ -59,11 +64,18 @@ class TransformPlacement final : public Randomizer {
       if (clear) points.push_back(at);
     }
     if (f.people.size() > points.size()) f.people.resize(points.size());
+    // A narrowed spread turns the group one way, each person within spread / 2 of it (people
+    // watching the same thing, or the camera); the full circle draws each heading alone.
+    const bool together = room_heading_spread_ < 360;
+    const double common = together ? rng.uniform(0, 2 * M_PI) : 0.0;
+    const double half_spread = room_heading_spread_ * M_PI / 360;
     for (std::size_t i = 0; i < f.people.size(); ++i) {
       PersonDraft& p = f.people[i];
       p.position = Eigen::Vector3f(points[i].x(), 0.0f, points[i].y());
-      p.rotation = Eigen::Quaternionf(Eigen::AngleAxisf(
-          static_cast<float>(rng.uniform(0, 2 * M_PI)), Eigen::Vector3f::UnitY()));
+      const double heading =
+          together ? common + rng.uniform(-half_spread, half_spread) : rng.uniform(0, 2 * M_PI);
+      p.rotation = Eigen::Quaternionf(
+          Eigen::AngleAxisf(static_cast<float>(heading), Eigen::Vector3f::UnitY()));
       p.scale = 1.0f;
       p.placed = true;
     }
@@ -71,6 +83,7 @@ class TransformPlacement final : public Randomizer {
 
   ScalarSampler x_, y_, z_, rx_, ry_, rz_, size_;
   double room_separation_;
+  double room_heading_spread_;  // degrees; 360 = every heading drawn on its own
 };
 
 }  // namespace
@@ -80,7 +93,9 @@ extern const RandomizerEntry kTransformPlacementRandomizer = {
     "Wall layout (paper): each person's pelvis at (`x`, `y`, `z`) = (U(−7.5, 7.5), U(−7.5, 7.5), "
     "U(−4, 1)) m, rotated by Euler angles `rotation_x` U(0, 20), `rotation_y` U(0, 360), "
     "`rotation_z` U(0, 20) degrees, scaled uniformly by `size` U(0.5, 3) (the authors' people "
-    "float and may intersect). Room layout: wheels on the floor, upright, random heading, "
+    "float and may intersect). Room layout: wheels on the floor, upright, random heading (with "
+    "`room_heading_spread` below 360 degrees the group faces one random way, each person "
+    "within half the spread of it), "
     "Poisson-disk points `room_separation` = 1.2 m apart in the middle 60 % of the room "
     "and clear of the furniture (footprint radius + 0.5 m), "
     "true size; people beyond the points that fit are left out.",

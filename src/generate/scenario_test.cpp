@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 
 #include "core/error.h"
@@ -176,6 +178,55 @@ TEST(Scenario, ALaterCameraDrawChangesOnlyTheCamera) {
     }
     EXPECT_EQ(draft_frame(s, 4, frame, ctx, 1).camera, second.camera);
   }
+}
+
+// TransformPlacement.room_heading_spread: a group in a room faces one way, each person within
+// half the spread of the others' common heading; the full circle (default) draws as before and
+// is not recorded.
+TEST(Scenario, RoomHeadingSpreadTurnsTheGroupOneWay) {
+  const auto ctx = small_context();
+  auto rooms = [](const std::string& placement) {
+    return Scenario::from_config(ConfigNode::load_string(
+        "randomizers:\n  Environment: {room_probability: 1}\n  HumanGeneration: "
+        "{min_per_frame: 4, max_per_frame: 4}\n  TransformPlacement: " +
+            placement + "\n",
+        "rooms.yaml"));
+  };
+  const auto heading = [](const PersonDraft& p) {
+    const Eigen::Vector3f forward = p.rotation * Eigen::Vector3f::UnitZ();
+    return std::atan2(forward.x(), forward.z());
+  };
+  // The largest angle between two of a frame's people's headings, in degrees.
+  const auto widest = [&](const FrameDraft& d) {
+    double most = 0;
+    for (const PersonDraft& a : d.people) {
+      for (const PersonDraft& b : d.people) {
+        const double diff = std::remainder(heading(a) - heading(b), 2 * std::numbers::pi);
+        most = std::max(most, std::abs(diff) * 180 / std::numbers::pi);
+      }
+    }
+    return most;
+  };
+  const Scenario narrow = rooms("{room_heading_spread: 60}");
+  const Scenario full = rooms("{}");
+  double widest_narrow = 0, widest_full = 0;
+  for (int frame = 0; frame < 40; ++frame) {
+    const FrameDraft n = draft_frame(narrow, 5, frame, ctx), f = draft_frame(full, 5, frame, ctx);
+    ASSERT_GE(n.people.size(), 2u);
+    widest_narrow = std::max(widest_narrow, widest(n));
+    widest_full = std::max(widest_full, widest(f));
+    // Only the headings change: the same places.
+    ASSERT_EQ(n.people.size(), f.people.size());
+    for (std::size_t i = 0; i < n.people.size(); ++i)
+      EXPECT_EQ(n.people[i].position, f.people[i].position);
+  }
+  EXPECT_LE(widest_narrow, 60.0 + 1e-3);
+  EXPECT_GT(widest_full, 150.0);
+  EXPECT_EQ(narrow.to_json()["randomizers"]["TransformPlacement"]["room_heading_spread"], 60.0);
+  EXPECT_FALSE(full.to_json()["randomizers"]["TransformPlacement"].contains("room_heading_spread"));
+  EXPECT_NE(message("randomizers:\n  TransformPlacement: {room_heading_spread: 400}\n")
+                .find("room_heading_spread"),
+            std::string::npos);
 }
 
 // With `room_walls: all` the camera stands by a side wall about half of the time, looking into
