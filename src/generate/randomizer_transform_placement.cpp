@@ -65,15 +65,16 @@ class TransformPlacement final : public Randomizer {
     }
     if (f.people.size() > points.size()) f.people.resize(points.size());
     // A narrowed spread turns the group one way, each person within spread / 2 of it (people
-    // watching the same thing, or the camera); the full circle draws each heading alone.
+    // watching the same thing, or the camera). The full circle draws nothing extra, so that
+    // earlier datasets regenerate byte for byte.
     const bool together = room_heading_spread_ < 360;
-    const double common = together ? rng.uniform(0, 2 * M_PI) : 0.0;
+    const double group_heading = together ? rng.uniform(0, 2 * M_PI) : 0.0;
     const double half_spread = room_heading_spread_ * M_PI / 360;
     for (std::size_t i = 0; i < f.people.size(); ++i) {
       PersonDraft& p = f.people[i];
       p.position = Eigen::Vector3f(points[i].x(), 0.0f, points[i].y());
-      const double heading =
-          together ? common + rng.uniform(-half_spread, half_spread) : rng.uniform(0, 2 * M_PI);
+      const double heading = together ? group_heading + rng.uniform(-half_spread, half_spread)
+                                      : rng.uniform(0, 2 * M_PI);
       p.rotation = Eigen::Quaternionf(
           Eigen::AngleAxisf(static_cast<float>(heading), Eigen::Vector3f::UnitY()));
       p.scale = 1.0f;
@@ -93,9 +94,9 @@ extern const RandomizerEntry kTransformPlacementRandomizer = {
     "Wall layout (paper): each person's pelvis at (`x`, `y`, `z`) = (U(−7.5, 7.5), U(−7.5, 7.5), "
     "U(−4, 1)) m, rotated by Euler angles `rotation_x` U(0, 20), `rotation_y` U(0, 360), "
     "`rotation_z` U(0, 20) degrees, scaled uniformly by `size` U(0.5, 3) (the authors' people "
-    "float and may intersect). Room layout: wheels on the floor, upright, random heading (with "
-    "`room_heading_spread` below 360 degrees the group faces one random way, each person "
-    "within half the spread of it), "
+    "float and may intersect). Room layout: wheels on the floor, upright, random heading "
+    "(`room_heading_spread` = 360 degrees, 0–360: below 360 the group faces one random way, "
+    "each person within half the spread of it), "
     "Poisson-disk points `room_separation` = 1.2 m apart in the middle 60 % of the room "
     "and clear of the furniture (footprint radius + 0.5 m), "
     "true size; people beyond the points that fit are left out.",

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <numbers>
@@ -211,14 +212,15 @@ TEST(Scenario, RoomHeadingSpreadTurnsTheGroupOneWay) {
   const Scenario full = rooms("{}");
   double widest_narrow = 0, widest_full = 0;
   for (int frame = 0; frame < 40; ++frame) {
-    const FrameDraft n = draft_frame(narrow, 5, frame, ctx), f = draft_frame(full, 5, frame, ctx);
-    ASSERT_GE(n.people.size(), 2u);
-    widest_narrow = std::max(widest_narrow, widest(n));
-    widest_full = std::max(widest_full, widest(f));
+    const FrameDraft narrowed = draft_frame(narrow, 5, frame, ctx);
+    const FrameDraft full_circle = draft_frame(full, 5, frame, ctx);
+    ASSERT_GE(narrowed.people.size(), 2u);
+    widest_narrow = std::max(widest_narrow, widest(narrowed));
+    widest_full = std::max(widest_full, widest(full_circle));
     // Only the headings change: the same places.
-    ASSERT_EQ(n.people.size(), f.people.size());
-    for (std::size_t i = 0; i < n.people.size(); ++i)
-      EXPECT_EQ(n.people[i].position, f.people[i].position);
+    ASSERT_EQ(narrowed.people.size(), full_circle.people.size());
+    for (std::size_t i = 0; i < narrowed.people.size(); ++i)
+      EXPECT_EQ(narrowed.people[i].position, full_circle.people[i].position);
   }
   EXPECT_LE(widest_narrow, 60.0 + 1e-3);
   EXPECT_GT(widest_full, 150.0);
