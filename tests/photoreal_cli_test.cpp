@@ -222,6 +222,8 @@ TEST(PhotorealCli, BadValuesNameTheKey) {
       {"  Texture: {style: plaid}\n", "must be paper or interior, not 'plaid'"},
       {"  HumanGeneration: {garment_colours: neon}\n", "must be palette or uniform, not 'neon'"},
       {"  HumanGeneration: {hair_strand_coverage: 0}\n", "hair_strand_coverage"},
+      {"  Wheelchair: {colours: neon}\n", "must be palette or uniform, not 'neon'"},
+      {"  EmptyWheelchair: {colours: 3}\n", "must be palette or uniform, not '3'"},
       {"  Environment: {outdoor_probability: 1.5}\n", "outdoor_probability"},
       {"  Statue: {enabled: true, min_count: 3, max_count: 1}\n", "max_count is below min_count"},
       {"  HangingClothes: {enabled: true, min_count: 2, max_count: 1}\n",

@@ -474,7 +474,7 @@ BuiltFrame build_frame(const FrameDraft& draft, const body::BodyData& body_data,
     const PartIds ids{
         0, static_cast<std::uint16_t>(kEmptyChairIdBase + std::min<std::size_t>(i + 1, 999))};
     add_parts(out, body::place_wheelchair(chair, to_world),
-              "empty_wheelchair_" + std::to_string(i + 1), ids, Outfit{}, std::nullopt);
+              "empty_wheelchair_" + std::to_string(i + 1), ids, Outfit{}, e.colours);
   }
   for (std::size_t i = 0; i < draft.statues.size(); ++i)
     add_statue(out, draft, i, body_data, clips);

@@ -40,8 +40,8 @@ FrameDraft room_draft() {
   draft.people[1].spec.mobility_aid = body::MobilityAidType::kCane;
   draft.people[1].chair_colours = std::array<Vector3f, 4>{
       Vector3f(0.1f, 0.2f, 0.3f), Vector3f(0.4f, 0.5f, 0.6f), Vector3f(0, 0, 0), Vector3f(1, 1, 1)};
-  draft.empty_chairs.push_back(
-      {body::WheelchairType::kSport, 9, Vector3f(0, 0, -6), Eigen::Quaternionf::Identity(), 1.0f});
+  draft.empty_chairs.push_back({body::WheelchairType::kSport, 9, Vector3f(0, 0, -6),
+                                Eigen::Quaternionf::Identity(), 1.0f, std::nullopt});
   ObjectDraft box;
   box.position = Vector3f(2, 0, -5);
   draft.objects.push_back(box);

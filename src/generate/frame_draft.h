@@ -63,6 +63,7 @@ struct EmptyChairDraft {
   Eigen::Vector3f position = Eigen::Vector3f::Zero();
   Eigen::Quaternionf rotation = Eigen::Quaternionf::Identity();
   float scale = 1.0f;
+  std::optional<std::array<Eigen::Vector3f, 4>> colours;  // else the chair's own draw
 };
 
 // A statue or a mannequin: a posed body of one material (stone, bronze, plaster), bare and

@@ -1,13 +1,14 @@
 // EmptyWheelchair: distractor wheelchairs with nobody in them.
 
 #include "generate/randomizer.h"
+#include "generate/wheelchair_palette.h"
 
 namespace wheelpose::generate {
 namespace {
 
 class EmptyWheelchair final : public Randomizer {
  public:
-  explicit EmptyWheelchair(const ConfigNode* c) : count_(c, 2) {}
+  explicit EmptyWheelchair(const ConfigNode* c) : count_(c, 2), colours_(chair_colours_of(c)) {}
 
   void apply(FrameDraft& f, RandomStream& rng, const RandomizerContext&) const override {
     const std::int64_t n = rng.uniform_int(count_.min, count_.max);
@@ -18,6 +19,12 @@ class EmptyWheelchair final : public Randomizer {
                    : u < 0.75 ? body::WheelchairType::kSport
                               : body::WheelchairType::kPower;
       chair.seed = rng.next_u64();
+      // The palette's draw comes from the chair's own stream, so the frame's draws stay as they
+      // were; uniform keeps the colours body::make_empty_wheelchair draws itself.
+      if (colours_ == ChairColours::kPalette) {
+        RandomStream own(chair.seed, {"empty_wheelchair_colours"});
+        chair.colours = wheelchair_colours(own, colours_);
+      }
       const float heading = static_cast<float>(rng.uniform(0, 2 * M_PI));
       if (f.environment == EnvironmentKind::kRoom) {
         chair.position =
@@ -33,10 +40,15 @@ class EmptyWheelchair final : public Randomizer {
     }
   }
 
-  nlohmann::ordered_json parameters() const override { return count_.parameters(); }
+  nlohmann::ordered_json parameters() const override {
+    nlohmann::ordered_json p = count_.parameters();
+    p["colours"] = chair_colours_name(colours_);
+    return p;
+  }
 
  private:
   DistractorCount count_;
+  ChairColours colours_;
 };
 
 }  // namespace
@@ -46,7 +58,7 @@ extern const RandomizerEntry kEmptyWheelchairRandomizer = {
     "Adds `min_count`…`max_count` = 0…2 wheelchairs with nobody in them (type manual 0.6, sport "
     "0.15, power 0.25), so a model learns that a chair is not a person. Wall layout: placed in "
     "the people's volume, scaled by `size` U(0.5, 3); rooms: standing on the floor. They get no "
-    "annotation. New in WheelPose.",
+    "annotation. `colours` as the Wheelchair randomizer's (palette or uniform). New in WheelPose.",
     true, [](const ConfigNode* c) -> std::unique_ptr<Randomizer> {
       return std::make_unique<EmptyWheelchair>(c);
     }};

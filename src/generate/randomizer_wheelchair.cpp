@@ -1,6 +1,7 @@
 // Wheelchair: type and colours of each person's chair.
 
 #include "generate/randomizer.h"
+#include "generate/wheelchair_palette.h"
 
 namespace wheelpose::generate {
 namespace {
@@ -12,7 +13,8 @@ class WheelchairRandomizer final : public Randomizer {
         sport_(number_or(c, "sport_weight", 0.15, 0, 1e6)),
         power_(number_or(c, "power_weight", 0.25, 0, 1e6)),
         cc_by_(number_or(c, "cc_by_weight", 0.0, 0, 1e6)),
-        none_(number_or(c, "none_weight", 0.0, 0, 1e6)) {
+        none_(number_or(c, "none_weight", 0.0, 0, 1e6)),
+        colours_(chair_colours_of(c)) {
     if (manual_ + sport_ + power_ + cc_by_ + none_ <= 0) c->fail("the weights add up to 0");
     type_ = ScalarSampler::categorical({static_cast<double>(body::WheelchairType::kManual),
                                         static_cast<double>(body::WheelchairType::kSport),
@@ -26,30 +28,19 @@ class WheelchairRandomizer final : public Randomizer {
     for (PersonDraft& p : f.people) {
       RandomStream member(p.spec.seed, {"wheelchair_type"});
       p.spec.wheelchair = static_cast<body::WheelchairType>(type_.sample(member));
-      p.chair_colours = colours(member);
+      p.chair_colours = wheelchair_colours(member, colours_);
     }
   }
 
-  static std::array<Eigen::Vector3f, 4> colours(RandomStream& rng) {
-    auto c = [&rng](double lo, double hi) {
-      return Eigen::Vector3f(static_cast<float>(rng.uniform(lo, hi)),
-                             static_cast<float>(rng.uniform(lo, hi)),
-                             static_cast<float>(rng.uniform(lo, hi)));
-    };
-    const float tyre = static_cast<float>(rng.uniform(0.02, 0.12));
-    return {c(0.05, 0.9), c(0.02, 0.4), Eigen::Vector3f::Constant(tyre), c(0.3, 0.8)};
-  }
-
   nlohmann::ordered_json parameters() const override {
-    return {{"manual_weight", manual_},
-            {"sport_weight", sport_},
-            {"power_weight", power_},
-            {"cc_by_weight", cc_by_},
-            {"none_weight", none_}};
+    return {{"manual_weight", manual_}, {"sport_weight", sport_},
+            {"power_weight", power_},   {"cc_by_weight", cc_by_},
+            {"none_weight", none_},     {"colours", chair_colours_name(colours_)}};
   }
 
  private:
   double manual_, sport_, power_, cc_by_, none_;
+  ChairColours colours_;
   ScalarSampler type_;  // over the WheelchairType values, by the weights
 };
 
@@ -62,9 +53,11 @@ extern const RandomizerEntry kWheelchairRandomizer = {
     "from `sweethome3d-furniture`, scaled under the fitted seat; opt-in because anything "
     "published with it must carry its credit) and `none_weight` 0 (no wheelchair: the person "
     "stands on the floor, playing the clip's upper body on straight legs; for test sets of "
-    "people without wheelchairs), and its colours (frame U(0.05, 0.9), upholstery "
-    "U(0.02, 0.4), "
-    "tyres dark grey, trim U(0.3, 0.8) per channel). Dimensions are fitted to the body by the "
+    "people without wheelchairs), and its colours: `colours` = palette (frames black, silver, "
+    "graphite or white, a third anodised in a colour; upholstery black, charcoal or navy, rarely "
+    "a dark colour; chrome, aluminium or black trim; dark grey tyres) or uniform (the earlier "
+    "draw: frame U(0.05, 0.9), upholstery U(0.02, 0.4), trim U(0.3, 0.8) per channel). "
+    "Dimensions are fitted to the body by the "
     "body stage. Fixed per pool member. New in WheelPose (the authors' chair was a cube "
     "placeholder).",
     true, [](const ConfigNode* c) -> std::unique_ptr<Randomizer> {
