@@ -36,9 +36,13 @@ Eigen::Vector3f draw_shade(RandomStream& rng, const std::vector<ChairShade>& sha
   return c.cwiseMin(0.95f);
 }
 
+// Blue first, then green, then red: the order the earlier code's constructor arguments were
+// evaluated in (GCC's), so `colours: uniform` draws the very chairs it drew.
 Eigen::Vector3f uniform_colour(RandomStream& rng, double lo, double hi) {
-  return {static_cast<float>(rng.uniform(lo, hi)), static_cast<float>(rng.uniform(lo, hi)),
-          static_cast<float>(rng.uniform(lo, hi))};
+  const float b = static_cast<float>(rng.uniform(lo, hi));
+  const float g = static_cast<float>(rng.uniform(lo, hi));
+  const float r = static_cast<float>(rng.uniform(lo, hi));
+  return {r, g, b};
 }
 
 }  // namespace

@@ -59,10 +59,10 @@ TEST(WheelchairPalette, UniformIsTheEarlierDrawInItsOrder) {
   const ChairPaint paint = wheelchair_colours(a, ChairColours::kUniform);
   const float tyre = static_cast<float>(b.uniform(0.02, 0.12));
   auto next = [&b](double lo, double hi) {
-    const float x = static_cast<float>(b.uniform(lo, hi));
-    const float y = static_cast<float>(b.uniform(lo, hi));
-    const float z = static_cast<float>(b.uniform(lo, hi));
-    return Eigen::Vector3f(x, y, z);
+    const float blue = static_cast<float>(b.uniform(lo, hi));
+    const float green = static_cast<float>(b.uniform(lo, hi));
+    const float red = static_cast<float>(b.uniform(lo, hi));
+    return Eigen::Vector3f(red, green, blue);
   };
   const Eigen::Vector3f frame = next(0.05, 0.9), upholstery = next(0.02, 0.4),
                         trim = next(0.3, 0.8);
