@@ -25,12 +25,9 @@ constexpr Ethnicity kEthnicities[] = {{"caucasian", 0.0, 0.0, 1.0},
                                       {"middle_eastern", 0.15, 0.15, 0.7}};
 
 GarmentColours garment_colours_of(const ConfigNode* c) {
-  if (c == nullptr || !c->has("garment_colours")) return GarmentColours::kPalette;
-  const ConfigNode node = c->child("garment_colours");
-  const std::string value = node.as_string();
-  if (value == "palette") return GarmentColours::kPalette;
-  if (value == "uniform") return GarmentColours::kUniform;
-  node.fail("must be palette or uniform, not '" + value + "'");
+  return choice_or(c, "garment_colours", "palette", "palette", "uniform") == "palette"
+             ? GarmentColours::kPalette
+             : GarmentColours::kUniform;
 }
 
 // `exclude_assets`: MakeHuman asset names ("clothes/…", "hair/…") never drawn, so a test set can

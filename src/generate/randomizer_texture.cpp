@@ -37,13 +37,7 @@ class TextureRandomizer final : public Randomizer {
 
  private:
   static bool interior_style(const ConfigNode* c) {
-    if (c == nullptr || !c->has("style")) return false;
-    const ConfigNode node = c->child("style");
-    const std::string style = node.as_string();
-    if (style != "paper" && style != "interior") {
-      node.fail("must be paper or interior, not '" + style + "'");
-    }
-    return style == "interior";
+    return choice_or(c, "style", "paper", "paper", "interior") == "interior";
   }
 
   bool interior_;

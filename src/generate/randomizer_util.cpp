@@ -25,6 +25,16 @@ long long integer_or(const ConfigNode* config, const std::string& key, long long
   return config == nullptr ? fallback : config->get_int(key, fallback, min, max);
 }
 
+std::string choice_or(const ConfigNode* config, const std::string& key, const std::string& fallback,
+                      const std::string& first, const std::string& second) {
+  if (config == nullptr || !config->has(key)) return fallback;
+  const ConfigNode node = config->child(key);
+  const std::string value = node.as_string();
+  if (value != first && value != second)
+    node.fail("must be " + first + " or " + second + ", not '" + value + "'");
+  return value;
+}
+
 DistractorCount::DistractorCount(const ConfigNode* config, long long default_max)
     : min(integer_or(config, "min_count", 0, 0, 1000)),
       max(integer_or(config, "max_count", default_max, 0, 1000)),

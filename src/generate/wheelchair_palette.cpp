@@ -1,6 +1,7 @@
 #include "generate/wheelchair_palette.h"
 
 #include "core/srgb.h"
+#include "generate/randomizer.h"
 
 namespace wheelpose::generate {
 namespace {
@@ -91,12 +92,9 @@ const std::vector<ChairShade>& trim_shades() {
 }
 
 ChairColours chair_colours_of(const ConfigNode* config) {
-  if (config == nullptr || !config->has("colours")) return ChairColours::kPalette;
-  const ConfigNode node = config->child("colours");
-  const std::string value = node.as_string();
-  if (value == "palette") return ChairColours::kPalette;
-  if (value == "uniform") return ChairColours::kUniform;
-  node.fail("must be palette or uniform, not '" + value + "'");
+  return choice_or(config, "colours", "palette", "palette", "uniform") == "palette"
+             ? ChairColours::kPalette
+             : ChairColours::kUniform;
 }
 
 const char* chair_colours_name(ChairColours style) {
