@@ -40,8 +40,10 @@ FrameDraft room_draft() {
   draft.people[1].spec.mobility_aid = body::MobilityAidType::kCane;
   draft.people[1].chair_colours = std::array<Vector3f, 4>{
       Vector3f(0.1f, 0.2f, 0.3f), Vector3f(0.4f, 0.5f, 0.6f), Vector3f(0, 0, 0), Vector3f(1, 1, 1)};
-  draft.empty_chairs.push_back({body::WheelchairType::kSport, 9, Vector3f(0, 0, -6),
-                                Eigen::Quaternionf::Identity(), 1.0f, std::nullopt});
+  draft.empty_chairs.push_back(
+      {body::WheelchairType::kSport, 9, Vector3f(0, 0, -6), Eigen::Quaternionf::Identity(), 1.0f,
+       std::array<Vector3f, 4>{Vector3f(0.7f, 0.1f, 0.2f), Vector3f(0.01f, 0.02f, 0.03f),
+                               Vector3f(0.05f, 0.05f, 0.05f), Vector3f(0.6f, 0.6f, 0.6f)}});
   ObjectDraft box;
   box.position = Vector3f(2, 0, -5);
   draft.objects.push_back(box);
@@ -52,7 +54,7 @@ TEST(FrameBuilder, InstancesFollowTheIdSchemeAndPartsWearTheirMaterials) {
   const std::vector<KeypointAnchor> anchors = resolve_anchors(load_keypoint_template("coco17"));
   const BuiltFrame built = build_frame(room_draft(), body_data(), {}, anchors);
   const scene::Scene& s = built.scene;
-  int person_parts = 0, aid_parts = 0, skin_parts = 0;
+  int person_parts = 0, aid_parts = 0, skin_parts = 0, empty_frame = 0, empty_seat = 0;
   for (const scene::Instance& inst : s.instances) {
     const std::string& n = inst.name;
     const scene::Material& m = s.materials[static_cast<std::size_t>(inst.material)];
@@ -87,6 +89,9 @@ TEST(FrameBuilder, InstancesFollowTheIdSchemeAndPartsWearTheirMaterials) {
     } else if (n.starts_with("empty_wheelchair_1_")) {
       EXPECT_EQ(inst.instance_id, kEmptyChairIdBase + 1) << n;
       EXPECT_EQ(inst.semantic_id, kSemanticWheelchair) << n;
+      // The empty chair wears its drawn colours.
+      empty_frame += m.diffuse == Vector3f(0.7f, 0.1f, 0.2f);
+      empty_seat += m.diffuse == Vector3f(0.01f, 0.02f, 0.03f);
     } else if (n == "object_1") {
       EXPECT_EQ(inst.instance_id, kObjectIdBase + 1);
       EXPECT_EQ(inst.semantic_id, kSemanticObject);
@@ -98,6 +103,8 @@ TEST(FrameBuilder, InstancesFollowTheIdSchemeAndPartsWearTheirMaterials) {
   EXPECT_GE(person_parts, 4);  // at least skin and top for each person
   EXPECT_EQ(skin_parts, 1);
   EXPECT_GE(aid_parts, 1);
+  EXPECT_GE(empty_frame, 1);
+  EXPECT_GE(empty_seat, 1);
   // Floor, ceiling and four walls.
   EXPECT_EQ(
       std::count_if(s.instances.begin(), s.instances.end(),

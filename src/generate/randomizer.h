@@ -63,10 +63,9 @@ double number_or(const ConfigNode* config, const std::string& key, double fallba
                  double max);
 long long integer_or(const ConfigNode* config, const std::string& key, long long fallback,
                      long long min, long long max);
-// `key` of `config` as one of two words, or `fallback` when absent; any other value fails with
-// "must be FIRST or SECOND, not 'VALUE'".
+// `key` of `config` as one of `allowed`, or `fallback` when absent (ConfigNode::get_choice).
 std::string choice_or(const ConfigNode* config, const std::string& key, const std::string& fallback,
-                      const std::string& first, const std::string& second);
+                      const std::vector<std::string>& allowed);
 
 // How many distractors (empty wheelchairs, statues) a frame gets and, in the wall layout, how
 // large: the keys `min_count`, `max_count` and `size` U(0.5, 3).

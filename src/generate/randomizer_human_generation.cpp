@@ -25,7 +25,7 @@ constexpr Ethnicity kEthnicities[] = {{"caucasian", 0.0, 0.0, 1.0},
                                       {"middle_eastern", 0.15, 0.15, 0.7}};
 
 GarmentColours garment_colours_of(const ConfigNode* c) {
-  return choice_or(c, "garment_colours", "palette", "palette", "uniform") == "palette"
+  return choice_or(c, "garment_colours", "palette", {"palette", "uniform"}) == "palette"
              ? GarmentColours::kPalette
              : GarmentColours::kUniform;
 }

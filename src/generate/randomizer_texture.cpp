@@ -37,7 +37,7 @@ class TextureRandomizer final : public Randomizer {
 
  private:
   static bool interior_style(const ConfigNode* c) {
-    return choice_or(c, "style", "paper", "paper", "interior") == "interior";
+    return choice_or(c, "style", "paper", {"paper", "interior"}) == "interior";
   }
 
   bool interior_;

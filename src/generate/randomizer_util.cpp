@@ -26,13 +26,8 @@ long long integer_or(const ConfigNode* config, const std::string& key, long long
 }
 
 std::string choice_or(const ConfigNode* config, const std::string& key, const std::string& fallback,
-                      const std::string& first, const std::string& second) {
-  if (config == nullptr || !config->has(key)) return fallback;
-  const ConfigNode node = config->child(key);
-  const std::string value = node.as_string();
-  if (value != first && value != second)
-    node.fail("must be " + first + " or " + second + ", not '" + value + "'");
-  return value;
+                      const std::vector<std::string>& allowed) {
+  return config == nullptr ? fallback : config->get_choice(key, fallback, allowed);
 }
 
 DistractorCount::DistractorCount(const ConfigNode* config, long long default_max)

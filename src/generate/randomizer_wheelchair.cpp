@@ -14,7 +14,7 @@ class WheelchairRandomizer final : public Randomizer {
         power_(number_or(c, "power_weight", 0.25, 0, 1e6)),
         cc_by_(number_or(c, "cc_by_weight", 0.0, 0, 1e6)),
         none_(number_or(c, "none_weight", 0.0, 0, 1e6)),
-        colours_(chair_colours_of(c)) {
+        colour_style_(chair_colours_of(c)) {
     if (manual_ + sport_ + power_ + cc_by_ + none_ <= 0) c->fail("the weights add up to 0");
     type_ = ScalarSampler::categorical({static_cast<double>(body::WheelchairType::kManual),
                                         static_cast<double>(body::WheelchairType::kSport),
@@ -28,19 +28,19 @@ class WheelchairRandomizer final : public Randomizer {
     for (PersonDraft& p : f.people) {
       RandomStream member(p.spec.seed, {"wheelchair_type"});
       p.spec.wheelchair = static_cast<body::WheelchairType>(type_.sample(member));
-      p.chair_colours = wheelchair_colours(member, colours_);
+      p.chair_colours = wheelchair_colours(member, colour_style_);
     }
   }
 
   nlohmann::ordered_json parameters() const override {
     return {{"manual_weight", manual_}, {"sport_weight", sport_},
             {"power_weight", power_},   {"cc_by_weight", cc_by_},
-            {"none_weight", none_},     {"colours", chair_colours_name(colours_)}};
+            {"none_weight", none_},     {"colours", chair_colours_name(colour_style_)}};
   }
 
  private:
   double manual_, sport_, power_, cc_by_, none_;
-  ChairColours colours_;
+  ChairColours colour_style_;
   ScalarSampler type_;  // over the WheelchairType values, by the weights
 };
 
@@ -57,9 +57,8 @@ extern const RandomizerEntry kWheelchairRandomizer = {
     "graphite or white, a third anodised in a colour; upholstery black, charcoal or navy, rarely "
     "a dark colour; chrome, aluminium or black trim; dark grey tyres) or uniform (the earlier "
     "draw: frame U(0.05, 0.9), upholstery U(0.02, 0.4), trim U(0.3, 0.8) per channel). "
-    "Dimensions are fitted to the body by the "
-    "body stage. Fixed per pool member. New in WheelPose (the authors' chair was a cube "
-    "placeholder).",
+    "Dimensions are fitted to the body by the body stage. Fixed per pool member. New in WheelPose "
+    "(the authors' chair was a cube placeholder).",
     true, [](const ConfigNode* c) -> std::unique_ptr<Randomizer> {
       return std::make_unique<WheelchairRandomizer>(c);
     }};

@@ -92,7 +92,7 @@ const std::vector<ChairShade>& trim_shades() {
 }
 
 ChairColours chair_colours_of(const ConfigNode* config) {
-  return choice_or(config, "colours", "palette", "palette", "uniform") == "palette"
+  return choice_or(config, "colours", "palette", {"palette", "uniform"}) == "palette"
              ? ChairColours::kPalette
              : ChairColours::kUniform;
 }
