@@ -53,6 +53,31 @@ TEST(RealismCli, TheGroundTruthIsFoundWithOksOne) {
   EXPECT_FALSE(licence_group) << "one-valued numbers say nothing";
 }
 
+TEST(RealismCli, MinVisibleLeavesOutPeopleWhoShowLess) {
+  const auto dir = fresh_temp_dir("realism_visible");
+  const fs::path gt = wheelpose::testing::write_coco_sample_gt(dir, /*copy_image=*/true);
+  write_gt_as_results(gt, dir / "dt.json", true);
+  // The skier shows all 17 keypoints; hide the left ankle (labelled, v = 1).
+  json root = json::parse(read_text(gt));
+  root["annotations"][0]["keypoints"][3 * 15 + 2] = 1;
+  std::ofstream(dir / "hidden.json") << root.dump();
+  const std::string base = "realism " + (dir / "hidden.json").string() + " --images " +
+                           dir.string() + " --dt " + (dir / "dt.json").string();
+  const auto shows16 = run_wheelpose(base + " --min-visible 16");
+  ASSERT_EQ(shows16.exit_code, 0) << shows16.output;
+  EXPECT_NE(shows16.output.find("| all | 1 | 100.0 % | 1.000 |"), std::string::npos);
+  EXPECT_NE(shows16.output.find("## face_visible"), std::string::npos) << shows16.output;
+  const auto shows17 = run_wheelpose(base + " --min-visible 17 --out " + (dir / "r").string());
+  ASSERT_EQ(shows17.exit_code, 0) << shows17.output;
+  EXPECT_NE(shows17.output.find("| all | 0 |"), std::string::npos) << shows17.output;
+  const json report = json::parse(read_text(dir / "r" / "realism.json"));
+  EXPECT_EQ(report["left_out"]["too_few_visible"], 1);
+  EXPECT_EQ(report["options"]["min_visible_keypoints"], 17);
+  const auto bad = run_wheelpose(base + " --min-visible 18");
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("--min-visible"), std::string::npos) << bad.output;
+}
+
 TEST(RealismCli, ARealPhotoModelFindsTheSkier) {
   if (!fs::exists(fs::path(WHEELPOSE_SOURCE_DIR) / "models" / "movenet-thunder.json")) {
     GTEST_SKIP() << "MoveNet models missing: run scripts/setup.sh";

@@ -160,6 +160,11 @@ void attach_realism(CLI::App& parent) {
                   "Judge people with at least this many labelled keypoints")
       ->check(CLI::Range(1, 17))
       ->capture_default_str();
+  cmd->add_option("--min-visible", o->realism.min_visible_keypoints,
+                  "Judge people with at least this many keypoints labelled visible (v = 2): "
+                  "compares renders, which label hidden joints, with photos at equal visibility")
+      ->check(CLI::Range(0, 17))
+      ->capture_default_str();
   cmd->add_option("--threads", o->threads, "Threads (0 = every core)")
       ->check(CLI::NonNegativeNumber);
   cmd->callback([o] { run_realism(*o); });

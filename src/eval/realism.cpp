@@ -131,11 +131,29 @@ int count_keypoints(const coco::GtAnnotation& person, bool visible_only) {
 }
 int labelled_keypoints(const coco::GtAnnotation& person) { return count_keypoints(person, false); }
 
+// The template's nose and eyes (those it has); empty when it has none of them.
+std::vector<int> face_keypoints(const KeypointTemplate& keypoint_template) {
+  std::vector<int> face;
+  for (const char* name : {"nose", "left_eye", "right_eye"}) {
+    if (const int k = keypoint_template.index_of(name); k >= 0) face.push_back(k);
+  }
+  return face;
+}
+
+// Whether any of `face` is labelled visible: a person seen from behind shows neither nose nor eyes.
+bool face_visible(const coco::GtAnnotation& person, const std::vector<int>& face) {
+  return std::any_of(face.begin(), face.end(), [&](int k) {
+    const std::size_t v = 3 * static_cast<std::size_t>(k) + 2;
+    return v < person.keypoints.size() && person.keypoints[v] == 2;
+  });
+}
+
 }  // namespace
 
 bool realism_judges(const coco::GtAnnotation& person, const RealismOptions& options) {
   return !person.iscrowd && person.bbox.h >= options.min_height_px &&
-         labelled_keypoints(person) >= options.min_keypoints;
+         labelled_keypoints(person) >= options.min_keypoints &&
+         count_keypoints(person, true) >= options.min_visible_keypoints;
 }
 
 RealismReport measure_realism(const json& root, const coco::CocoGroundTruth& gt,
@@ -146,6 +164,7 @@ RealismReport measure_realism(const json& root, const coco::CocoGroundTruth& gt,
     throw Error(results.source + ": the detections carry no keypoints; realism needs a pose model");
   }
   const std::vector<double> vars = oks_vars(keypoint_template);
+  const std::vector<int> face = face_keypoints(keypoint_template);
   std::unordered_map<std::int64_t, std::vector<const coco::Detection*>> detections_of;
   for (const coco::Detection& d : results.detections) detections_of[d.image_id].push_back(&d);
   std::unordered_map<std::int64_t, const json*> image_json;
@@ -170,6 +189,10 @@ RealismReport measure_realism(const json& root, const coco::CocoGroundTruth& gt,
       ++report.too_few_keypoints;
       continue;
     }
+    if (count_keypoints(person, true) < options.min_visible_keypoints) {
+      ++report.too_few_visible;
+      continue;
+    }
     Judged judged;
     for (const coco::Detection* d : detections_of[person.image_id]) {
       if (d->category_id != person.category_id) continue;
@@ -184,6 +207,10 @@ RealismReport measure_realism(const json& root, const coco::CocoGroundTruth& gt,
     // How much of the person shows: a renderer labels every hidden joint, a human annotator
     // only what they can place, so compare sets at equal visibility.
     judged.attributes.numbers.emplace_back("visible_keypoints", count_keypoints(person, true));
+    if (!face.empty()) {
+      judged.attributes.labels.emplace_back("face_visible",
+                                            face_visible(person, face) ? "true" : "false");
+    }
     report.overall.people += 1;
     report.overall.found += judged.found;
     report.overall.oks_sum += judged.oks;
@@ -221,6 +248,9 @@ std::string realism_markdown(const RealismReport& report, const std::string& tit
   md += "People judged: " + std::to_string(report.overall.people) +
         " (left out: " + std::to_string(report.too_small) + " too small, " +
         std::to_string(report.too_few_keypoints) + " with too few labelled keypoints, " +
+        (report.too_few_visible > 0
+             ? std::to_string(report.too_few_visible) + " with too few visible, "
+             : std::string()) +
         std::to_string(report.crowd) + " crowd regions).\n\n";
   md += "| people | judged | found | mean OKS |\n|---|---|---|---|\n" + row(report.overall);
   std::string key;
@@ -248,11 +278,13 @@ json realism_json(const RealismReport& report, const RealismOptions& options) {
   return {{"options",
            {{"min_height_px", options.min_height_px},
             {"min_keypoints", options.min_keypoints},
+            {"min_visible_keypoints", options.min_visible_keypoints},
             {"found_oks", options.found_oks}}},
           {"overall", group_json(report.overall)},
           {"left_out",
            {{"too_small", report.too_small},
             {"too_few_keypoints", report.too_few_keypoints},
+            {"too_few_visible", report.too_few_visible},
             {"crowd", report.crowd}}},
           {"groups", std::move(groups)}};
 }

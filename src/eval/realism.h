@@ -3,8 +3,9 @@
 // labelled person large enough to judge, is the model's best match there (OKS ≥ 0.5), and how
 // close is it. Split by every attribute the dataset records per person and per image (the
 // generator's randomizer draws: environment, wheelchair type, clothing assets, body, camera, …)
-// so a user sees which scene choices look fake to a real-photo model. Run on a real keypoint set
-// it gives the reference a photo-real render should reach.
+// and by what shows of the person (visible keypoints, whether the face shows) so a user sees which
+// scene choices look fake to a real-photo model. Run on a real keypoint set it gives the reference
+// a photo-real render should reach.
 
 #include <nlohmann/json.hpp>
 #include <string>
@@ -18,12 +19,15 @@ namespace wheelpose::eval {
 struct RealismOptions {
   double min_height_px = 120;  // the person's box height
   int min_keypoints = 10;      // labelled keypoints (v > 0)
-  double found_oks = 0.5;      // a best match at least this close counts as found
-  int numeric_buckets = 4;     // numeric attributes split at their quantiles
+  // Keypoints labelled visible (v = 2); 0 judges everyone. A renderer labels every hidden joint,
+  // an annotator mostly what shows, so this compares a render with photos at equal visibility.
+  int min_visible_keypoints = 0;
+  double found_oks = 0.5;   // a best match at least this close counts as found
+  int numeric_buckets = 4;  // numeric attributes split at their quantiles
 };
 
 // Whether `person` is judged: not a crowd region, its box at least min_height_px tall, at least
-// min_keypoints labelled.
+// min_keypoints labelled and min_visible_keypoints of them visible.
 bool realism_judges(const coco::GtAnnotation& person, const RealismOptions& options);
 
 // The people of one attribute value (or of the whole set: key and bucket "all").
@@ -38,7 +42,8 @@ struct RealismGroup {
 struct RealismReport {
   RealismGroup overall;
   std::vector<RealismGroup> groups;  // by key, then bucket (numeric buckets in value order)
-  int too_small = 0, too_few_keypoints = 0, crowd = 0;  // people left out, and why
+  // People left out, and why.
+  int too_small = 0, too_few_keypoints = 0, too_few_visible = 0, crowd = 0;
 };
 
 // `root` is the GT file as parsed JSON (for the attributes), `gt` the same parsed as COCO, and

@@ -135,6 +135,48 @@ TEST(Realism, SplitsByHowManyKeypointsShow) {
   EXPECT_EQ(group(report, "visible_keypoints", "[17, 17]").found, 1);
 }
 
+TEST(Realism, MinVisibleJudgesAtEqualVisibility) {
+  json root = ground_truth();
+  // Person 2 shows 12 of 17 keypoints (5 labelled hidden, v = 1).
+  json& hidden = root["annotations"][1]["keypoints"];
+  for (int k = 10; k < 15; ++k) hidden[3 * k + 2] = 1;
+  const coco::CocoGroundTruth gt = coco::parse_coco_gt(root, "gt.json", 17, true);
+  const coco::CocoResults dt =
+      coco::parse_coco_results(json::array({detection(1, 10, 10)}), "dt.json", gt, 17);
+  RealismOptions options;
+  options.min_visible_keypoints = 12;
+  const auto coco17 = load_keypoint_template("coco17");
+  EXPECT_EQ(measure_realism(root, gt, dt, coco17, options).overall.people, 3);
+  options.min_visible_keypoints = 13;
+  const RealismReport report = measure_realism(root, gt, dt, coco17, options);
+  EXPECT_EQ(report.overall.people, 2);
+  EXPECT_EQ(report.too_few_visible, 1);
+  EXPECT_EQ(report.overall.found, 1);
+  EXPECT_TRUE(realism_judges(gt.annotations[0], options));
+  EXPECT_FALSE(realism_judges(gt.annotations[1], options));
+  EXPECT_NE(realism_markdown(report, "t").find("1 with too few visible"), std::string::npos);
+  EXPECT_EQ(realism_json(report, options)["left_out"]["too_few_visible"], 1);
+}
+
+TEST(Realism, SplitsByWhetherTheFaceShows) {
+  json root = ground_truth();
+  // Person 1 seen from behind: nose and eyes labelled but hidden; person 3 shows one eye only.
+  json& back = root["annotations"][0]["keypoints"];
+  for (int k = 0; k < 3; ++k) back[3 * k + 2] = 1;
+  json& one_eye = root["annotations"][2]["keypoints"];
+  one_eye[2] = 1;
+  one_eye[5] = 0;
+  const coco::CocoGroundTruth gt = coco::parse_coco_gt(root, "gt.json", 17, true);
+  const coco::CocoResults dt =
+      coco::parse_coco_results(json::array({detection(1, 10, 10)}), "dt.json", gt, 17);
+  const RealismReport report =
+      measure_realism(root, gt, dt, load_keypoint_template("coco17"), RealismOptions{});
+  EXPECT_EQ(group(report, "face_visible", "false").people, 1);
+  EXPECT_EQ(group(report, "face_visible", "false").found, 1);  // person 1 is found exactly
+  EXPECT_EQ(group(report, "face_visible", "true").people, 2);
+  EXPECT_EQ(group(report, "face_visible", "true").found, 0);
+}
+
 TEST(Realism, ReportsNameEveryGroup) {
   const RealismReport report = measure(json::array({detection(1, 10, 10)}));
   const std::string md = realism_markdown(report, "test");
