@@ -72,12 +72,12 @@ json detection(int image_id, double x, double y) {
           {"bbox", {x, y, 100, 200}}};
 }
 
-RealismReport measure(const json& results) {
-  const json root = ground_truth();
+RealismReport measure(const json& root, const json& results, const RealismOptions& options = {}) {
   const coco::CocoGroundTruth gt = coco::parse_coco_gt(root, "gt.json", 17, true);
   const coco::CocoResults dt = coco::parse_coco_results(results, "dt.json", gt, 17);
-  return measure_realism(root, gt, dt, load_keypoint_template("coco17"), RealismOptions{});
+  return measure_realism(root, gt, dt, load_keypoint_template("coco17"), options);
 }
+RealismReport measure(const json& results) { return measure(ground_truth(), results); }
 
 const RealismGroup& group(const RealismReport& report, const std::string& key,
                           const std::string& value) {
@@ -124,11 +124,7 @@ TEST(Realism, SplitsByHowManyKeypointsShow) {
   // Person 2 has 5 keypoints labelled but hidden (v = 1): 12 of 17 show.
   json& hidden = root["annotations"][1]["keypoints"];
   for (int k = 0; k < 5; ++k) hidden[3 * k + 2] = 1;
-  const coco::CocoGroundTruth gt = coco::parse_coco_gt(root, "gt.json", 17, true);
-  const coco::CocoResults dt =
-      coco::parse_coco_results(json::array({detection(1, 10, 10)}), "dt.json", gt, 17);
-  const RealismReport report =
-      measure_realism(root, gt, dt, load_keypoint_template("coco17"), RealismOptions{});
+  const RealismReport report = measure(root, json::array({detection(1, 10, 10)}));
   EXPECT_EQ(report.overall.people, 3);  // hidden keypoints still count as labelled
   EXPECT_EQ(group(report, "visible_keypoints", "[12, 17)").people, 1);
   EXPECT_EQ(group(report, "visible_keypoints", "[17, 17]").people, 2);
@@ -140,15 +136,13 @@ TEST(Realism, MinVisibleJudgesAtEqualVisibility) {
   // Person 2 shows 12 of 17 keypoints (5 labelled hidden, v = 1).
   json& hidden = root["annotations"][1]["keypoints"];
   for (int k = 10; k < 15; ++k) hidden[3 * k + 2] = 1;
-  const coco::CocoGroundTruth gt = coco::parse_coco_gt(root, "gt.json", 17, true);
-  const coco::CocoResults dt =
-      coco::parse_coco_results(json::array({detection(1, 10, 10)}), "dt.json", gt, 17);
+  const json found_one = json::array({detection(1, 10, 10)});
   RealismOptions options;
   options.min_visible_keypoints = 12;
-  const auto coco17 = load_keypoint_template("coco17");
-  EXPECT_EQ(measure_realism(root, gt, dt, coco17, options).overall.people, 3);
+  EXPECT_EQ(measure(root, found_one, options).overall.people, 3);
   options.min_visible_keypoints = 13;
-  const RealismReport report = measure_realism(root, gt, dt, coco17, options);
+  const RealismReport report = measure(root, found_one, options);
+  const coco::CocoGroundTruth gt = coco::parse_coco_gt(root, "gt.json", 17, true);
   EXPECT_EQ(report.overall.people, 2);
   EXPECT_EQ(report.too_few_visible, 1);
   EXPECT_EQ(report.overall.found, 1);
@@ -166,11 +160,7 @@ TEST(Realism, SplitsByWhetherTheFaceShows) {
   json& one_eye = root["annotations"][2]["keypoints"];
   one_eye[2] = 1;
   one_eye[5] = 0;
-  const coco::CocoGroundTruth gt = coco::parse_coco_gt(root, "gt.json", 17, true);
-  const coco::CocoResults dt =
-      coco::parse_coco_results(json::array({detection(1, 10, 10)}), "dt.json", gt, 17);
-  const RealismReport report =
-      measure_realism(root, gt, dt, load_keypoint_template("coco17"), RealismOptions{});
+  const RealismReport report = measure(root, json::array({detection(1, 10, 10)}));
   EXPECT_EQ(group(report, "face_visible", "false").people, 1);
   EXPECT_EQ(group(report, "face_visible", "false").found, 1);  // person 1 is found exactly
   EXPECT_EQ(group(report, "face_visible", "true").people, 2);
