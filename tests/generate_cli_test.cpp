@@ -520,4 +520,39 @@ TEST(GenerateCli, AnnotatedTemplatesMoveOnlyTheirPoints) {
   }
 }
 
+TEST(GenerateCli, SetWritesOneKeyOverTheScenario) {
+  const fs::path dir = fresh_temp_dir("generate_set");
+  const fs::path config = write_scenario(dir);
+  std::string scenario = kSmallScenario;
+  scenario.replace(scenario.find("labels: {"), 9, "labels: {box: person_and_wheelchair, ");
+  std::ofstream(dir / "chair-boxes.yaml") << scenario;
+  const auto edited = run_wheelpose(generate_args(dir / "chair-boxes.yaml", dir / "edited", 2));
+  ASSERT_EQ(edited.exit_code, 0) << edited.output;
+  const auto set = run_wheelpose(
+      generate_args(config, dir / "set", 2, "--set labels.box=person_and_wheelchair"));
+  ASSERT_EQ(set.exit_code, 0) << set.output;
+  // The same frames and labels as the edited file; the resolved scenario records the key.
+  EXPECT_EQ(read_text(dir / "set" / "annotations.json"),
+            read_text(dir / "edited" / "annotations.json"));
+  EXPECT_EQ(tree(dir / "set" / "images"), tree(dir / "edited" / "images"));
+  EXPECT_EQ(read_json(dir / "set" / "scenario.json")["scenario"]["labels"]["box"],
+            "person_and_wheelchair");
+
+  const struct {
+    std::string set, says;
+  } cases[] = {
+      {"labels.box", "--set 'labels.box': expected KEY=VALUE"},
+      {"labels.bogus=1", "key 'labels.bogus': unknown key"},
+      {"image.width.x=1", "'image.width' is not a map of keys"},
+      {"labels.box=[a", "the value is not YAML"},
+  };
+  for (const auto& c : cases) {
+    const auto r = run_wheelpose(generate_args(config, dir / "bad", 1, "--set " + c.set));
+    EXPECT_EQ(r.exit_code, 2) << c.set << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.says), std::string::npos) << c.set << "\n" << r.output;
+    EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << "one line: " << r.output;
+    EXPECT_FALSE(fs::exists(dir / "bad")) << c.set;
+  }
+}
+
 }  // namespace

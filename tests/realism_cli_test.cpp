@@ -125,4 +125,34 @@ TEST(RealismCli, BadInputIsOneLine) {
   }
 }
 
+TEST(RealismCli, BoxesJudgeASetLabelledByBoxOnly) {
+  const auto dir = fresh_temp_dir("realism_boxes");
+  const fs::path gt = wheelpose::testing::write_coco_sample_gt(dir, /*copy_image=*/true);
+  write_gt_as_results(gt, dir / "boxes.json", false);
+  // The skier labelled by box only, as the dev photos of wheelchair users are.
+  json root = json::parse(read_text(gt));
+  for (json& a : root["annotations"]) {
+    a.erase("keypoints");
+    a["num_keypoints"] = 0;
+  }
+  std::ofstream(dir / "boxes-gt.json") << root.dump();
+  const std::string base = "realism " + (dir / "boxes-gt.json").string() + " --images " +
+                           dir.string() + " --dt " + (dir / "boxes.json").string() + " --boxes";
+  const auto r = run_wheelpose(base + " --out " + (dir / "report").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("| all | 1 | 100.0 % | 1.000 |"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("mean box IoU"), std::string::npos) << r.output;
+  const json report = json::parse(read_text(dir / "report" / "realism.json"));
+  EXPECT_DOUBLE_EQ(report["overall"]["mean_iou"].get<double>(), 1.0);
+  // --in-frame needs each image's size; the sample gives it, and the skier is clear of the border.
+  const auto in_frame = run_wheelpose(base + " --in-frame");
+  ASSERT_EQ(in_frame.exit_code, 0) << in_frame.output;
+  EXPECT_NE(in_frame.output.find("| all | 1 | 100.0 % | 1.000 |"), std::string::npos);
+  // Without --boxes nobody has keypoints to judge.
+  const auto keypoints =
+      run_wheelpose("realism " + (dir / "boxes-gt.json").string() + " --images " + dir.string() +
+                    " --dt " + (dir / "boxes.json").string());
+  EXPECT_EQ(keypoints.exit_code, 2) << keypoints.output;
+}
+
 }  // namespace

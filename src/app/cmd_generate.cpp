@@ -10,7 +10,9 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "core/config.h"
 #include "core/error.h"
 #include "generate/runner.h"
 #include "generate/scenario.h"
@@ -31,8 +33,39 @@ struct GenerateCommandOptions {
   std::string motions;
   std::string clips_from;
   std::string assets;
+  std::vector<std::string> sets;  // KEY=VALUE written over the scenario
   bool list_randomizers = false;
 };
+
+// The scenario: the --config file (or the built-in paper preset) with every --set written over it.
+generate::Scenario load_scenario(const GenerateCommandOptions& o) {
+  if (o.sets.empty()) {
+    return o.config.empty() ? generate::Scenario::defaults()
+                            : generate::Scenario::from_file(o.config);
+  }
+  YAML::Node root =
+      o.config.empty() ? YAML::Node(YAML::NodeType::Map) : ConfigNode::parse_file(o.config);
+  for (const std::string& assignment : o.sets) {
+    const std::size_t equals = assignment.find('=');
+    if (equals == std::string::npos || equals == 0) {
+      throw Error("--set '" + assignment +
+                  "': expected KEY=VALUE, e.g. labels.box=person_and_wheelchair");
+    }
+    YAML::Node value;
+    try {
+      value = YAML::Load(assignment.substr(equals + 1));
+    } catch (const YAML::Exception& e) {
+      throw Error("--set '" + assignment + "': the value is not YAML: " + e.msg);
+    }
+    try {
+      set_dotted_key(root, assignment.substr(0, equals), value);
+    } catch (const Error& e) {
+      throw Error("--set '" + assignment + "': " + e.what());
+    }
+  }
+  const std::string origin = (o.config.empty() ? "the paper preset" : o.config) + " with --set";
+  return generate::Scenario::from_config(ConfigNode::from_yaml(root, origin));
+}
 
 std::pair<int, int> parse_shard(const std::string& text) {
   const auto slash = text.find('/');
@@ -55,8 +88,7 @@ void run(const GenerateCommandOptions& o) {
     return;
   }
   if (o.out.empty()) throw Error("--out is required");
-  const generate::Scenario scenario =
-      o.config.empty() ? generate::Scenario::defaults() : generate::Scenario::from_file(o.config);
+  const generate::Scenario scenario = load_scenario(o);
   generate::RunOptions run;
   run.out = o.out;
   run.frames = o.frames;
@@ -95,6 +127,9 @@ void attach_generate(CLI::App& parent) {
   cmd->add_option("--config", o->config,
                   "Scenario YAML (default: the paper preset, "
                   "configs/wheelpose-paper.yaml)");
+  cmd->add_option("--set", o->sets,
+                  "KEY=VALUE written over the scenario (dotted keys, a YAML value), e.g. "
+                  "labels.box=person_and_wheelchair; repeatable, recorded in scenario.json");
   cmd->add_option("--out", o->out, "Output folder (images/, labels/, annotations.json)");
   cmd->add_option("--frames", o->frames, "Frames in the whole dataset (all shards)")
       ->check(CLI::Range(std::int64_t{1}, std::int64_t{1} << 40));

@@ -59,11 +59,12 @@ std::pair<fs::path, fs::path> dataset_files(const RealismCommandOptions& o) {
 }
 
 // The model's people in every image that holds someone to judge, as COCO results.
-json predict_judged_images(const RealismCommandOptions& o, const coco::CocoGroundTruth& gt,
-                           const fs::path& images_dir) {
+json predict_judged_images(const RealismCommandOptions& o, const json& root,
+                           const coco::CocoGroundTruth& gt, const fs::path& images_dir) {
   std::map<std::int64_t, std::vector<coco::Box>> judged_boxes;
+  const eval::ImageSizes sizes = eval::image_sizes(root);
   for (const coco::GtAnnotation& a : gt.annotations) {
-    if (eval::realism_judges(a, o.realism)) judged_boxes[a.image_id].push_back(a.bbox);
+    if (eval::realism_judges(a, o.realism, sizes)) judged_boxes[a.image_id].push_back(a.bbox);
   }
   std::optional<fs::path> models_dir;
   if (!o.models.empty()) models_dir = fs::path(o.models);
@@ -71,6 +72,10 @@ json predict_judged_images(const RealismCommandOptions& o, const coco::CocoGroun
   const learn::PosePredictor predictor(
       choice.topology, learn::PredictOptions{.longer_sides = o.sizes, .threads = o.threads},
       choice.weights);
+  if (o.realism.boxes && !predictor.multi_person()) {
+    // A single-person model runs on crops around the labelled boxes: its box is not a finding.
+    throw Error("--model " + o.model + ": --boxes needs a multi-person model");
+  }
   spdlog::info(
       "realism: {} on {} images ({})", o.model, judged_boxes.size(),
       predictor.multi_person() ? "whole images" : "crops around the judged people's boxes");
@@ -103,12 +108,12 @@ void run_realism(const RealismCommandOptions& o) {
   }
   const json root = coco::parse_json_file(gt_path);
   const coco::CocoGroundTruth gt =
-      coco::parse_coco_gt(root, gt_path.string(), 17, /*need_keypoints=*/true);
+      coco::parse_coco_gt(root, gt_path.string(), 17, /*need_keypoints=*/!o.realism.boxes);
   json results;
   if (!o.dt.empty()) {
     results = coco::parse_json_file(o.dt);
   } else {
-    results = predict_judged_images(o, gt, images_dir);
+    results = predict_judged_images(o, root, gt, images_dir);
     if (!o.out.empty()) write_file_atomic(out / "results.json", results.dump() + "\n");
   }
   const coco::CocoResults dt =
@@ -126,8 +131,9 @@ void run_realism(const RealismCommandOptions& o) {
     write_file_atomic(out / "realism.md", markdown);
     write_file_atomic(out / "realism.json", doc.dump(2) + "\n");
   }
-  spdlog::info("realism: {} people judged, {:.1f} % found, mean OKS {:.3f}", report.overall.people,
-               100 * report.overall.found_share(), report.overall.mean_oks());
+  spdlog::info("realism: {} people judged, {:.1f} % found, mean {} {:.3f}", report.overall.people,
+               100 * report.overall.found_share(), o.realism.boxes ? "box IoU" : "OKS",
+               report.overall.mean_oks());
 }
 
 }  // namespace
@@ -137,7 +143,8 @@ void attach_realism(CLI::App& parent) {
   CLI::App* cmd = parent.add_subcommand(
       "realism",
       "How a model trained on real photos sees a dataset's people: the share it finds (best "
-      "match OKS >= 0.5) and their mean OKS, overall and by every recorded attribute");
+      "match OKS >= 0.5, or box IoU with --boxes) and how close, overall and by every recorded "
+      "attribute");
   cmd->add_option("dataset", o->dataset,
                   "A generate output folder (annotations.json, images/) or a COCO keypoint file")
       ->required();
@@ -165,6 +172,11 @@ void attach_realism(CLI::App& parent) {
                   "compares renders, which label hidden joints, with photos at equal visibility")
       ->check(CLI::Range(0, 17))
       ->capture_default_str();
+  cmd->add_flag("--boxes", o->realism.boxes,
+                "Judge by box: found where the model's best box has IoU >= 0.5 (any score); "
+                "keypoint counts are not asked for, so a set labelled by box only is a reference");
+  cmd->add_flag("--in-frame", o->realism.whole_in_frame,
+                "Judge only people whose box does not touch the image border");
   cmd->add_option("--threads", o->threads, "Threads (0 = every core)")
       ->check(CLI::NonNegativeNumber);
   cmd->callback([o] { run_realism(*o); });

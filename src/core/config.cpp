@@ -18,18 +18,22 @@ ConfigNode::ConfigNode(std::shared_ptr<Shared> shared, YAML::Node node, std::str
       key_path_(std::move(key_path)),
       used_keys_(std::make_shared<std::set<std::string>>()) {}
 
-ConfigNode ConfigNode::load_string(const std::string& text, const std::string& origin) {
-  auto shared = std::make_shared<Shared>();
-  shared->file = origin;
+namespace {
+
+YAML::Node parse_text(const std::string& text, const std::string& origin) {
   try {
     YAML::Node root = YAML::Load(text);
     if (!root || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
-    ConfigNode node(shared, root, "");
-    if (!root.IsMap()) node.fail("the document must be a map of keys");
-    return node;
+    return root;
   } catch (const YAML::Exception& e) {
     throw Error(origin + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
   }
+}
+
+}  // namespace
+
+ConfigNode ConfigNode::load_string(const std::string& text, const std::string& origin) {
+  return from_yaml(parse_text(text, origin), origin);
 }
 
 ConfigNode ConfigNode::from_yaml(YAML::Node root, const std::string& origin) {
@@ -41,12 +45,16 @@ ConfigNode ConfigNode::from_yaml(YAML::Node root, const std::string& origin) {
   return node;
 }
 
-ConfigNode ConfigNode::load_file(const std::string& path) {
+YAML::Node ConfigNode::parse_file(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw Error(path + ": cannot open config file");
   std::stringstream buffer;
   buffer << in.rdbuf();
-  return load_string(buffer.str(), path);
+  return parse_text(buffer.str(), path);
+}
+
+ConfigNode ConfigNode::load_file(const std::string& path) {
+  return from_yaml(parse_file(path), path);
 }
 
 void ConfigNode::fail(const std::string& what) const {
@@ -184,6 +192,29 @@ void ConfigNode::finish() const {
       ConfigNode unknown(shared_, item.first, key_path_.empty() ? key : key_path_ + "." + key);
       unknown.fail("unknown key");
     }
+  }
+}
+
+void set_dotted_key(YAML::Node root, const std::string& path, const YAML::Node& value) {
+  YAML::Node node;
+  node.reset(root);
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t dot = path.find('.', start);
+    const std::string key = path.substr(start, dot == std::string::npos ? dot : dot - start);
+    if (key.empty()) throw Error("key '" + path + "': an empty name between dots");
+    if (dot == std::string::npos) {
+      node[key] = value;
+      return;
+    }
+    YAML::Node next = node[key];
+    if (!next.IsDefined() || next.IsNull()) {
+      next = YAML::Node(YAML::NodeType::Map);
+    } else if (!next.IsMap()) {
+      throw Error("key '" + path + "': '" + path.substr(0, dot) + "' is not a map of keys");
+    }
+    node.reset(next);
+    start = dot + 1;
   }
 }
 

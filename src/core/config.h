@@ -18,6 +18,9 @@ class ConfigNode {
   static ConfigNode load_file(const std::string& path);
   // Parses YAML text; `origin` names it in messages (e.g. "<built-in paper preset>").
   static ConfigNode load_string(const std::string& text, const std::string& origin);
+  // Reads a YAML file into a document to edit before wrapping it (from_yaml); a missing file or a
+  // syntax error throws Error naming file:line.
+  static YAML::Node parse_file(const std::string& path);
   // Wraps a parsed document (e.g. one edited after loading); `origin` names it in messages.
   static ConfigNode from_yaml(YAML::Node root, const std::string& origin);
 
@@ -63,5 +66,10 @@ class ConfigNode {
   std::string key_path_;
   std::shared_ptr<std::set<std::string>> used_keys_;
 };
+
+// Writes `value` at `path` (dotted keys, "a.b.c") of a map document, creating maps on the way:
+// how an experiment's variants and `generate --set` change one key of a file. Throws Error when a
+// key on the way holds something other than a map.
+void set_dotted_key(YAML::Node root, const std::string& path, const YAML::Node& value);
 
 }  // namespace wheelpose

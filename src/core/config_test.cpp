@@ -42,15 +42,33 @@ TEST(ConfigNode, RejectsWrongTypeAndRange) {
             "c.yaml:1: key 'fps': expected a number, got 'fast'");
   EXPECT_EQ(error_of([&] { root.get_int("order", 3, 1, 8); }),
             "c.yaml:2: key 'order': value 12 is outside [1, 8]");
-  EXPECT_EQ(error_of([&] { root.get_choice("mode", "a", {"a", "b"}); }),
+  EXPECT_EQ(error_of([&] {
+              root.get_choice("mode", "a", {"a", "b"});
+            }),
             "c.yaml:3: key 'mode': 'z' is not one of: a, b");
 }
 
 TEST(ConfigNode, ReportsSyntaxErrorsAndMissingFiles) {
-  EXPECT_EQ(error_of([] { ConfigNode::load_string("a: [1, 2\n", "bad.yaml"); }).rfind("bad.yaml:", 0),
-            0u);
+  EXPECT_EQ(
+      error_of([] { ConfigNode::load_string("a: [1, 2\n", "bad.yaml"); }).rfind("bad.yaml:", 0),
+      0u);
   EXPECT_EQ(error_of([] { ConfigNode::load_file("/nonexistent/x.yaml"); }),
             "/nonexistent/x.yaml: cannot open config file");
+}
+
+TEST(SetDottedKey, WritesOneKeyAndMakesTheMapsOnTheWay) {
+  YAML::Node root = YAML::Load("labels:\n  keypoint_template: coco17\nimage: {width: 64}\n");
+  set_dotted_key(root, "labels.box", YAML::Load("person_and_wheelchair"));
+  set_dotted_key(root, "randomizers.Camera.fov", YAML::Load("[40, 60]"));
+  set_dotted_key(root, "image.width", YAML::Load("128"));
+  EXPECT_EQ(root["labels"]["keypoint_template"].as<std::string>(), "coco17");  // kept
+  EXPECT_EQ(root["labels"]["box"].as<std::string>(), "person_and_wheelchair");
+  EXPECT_EQ(root["randomizers"]["Camera"]["fov"][1].as<int>(), 60);
+  EXPECT_EQ(root["image"]["width"].as<int>(), 128);
+  EXPECT_EQ(error_of([&] { set_dotted_key(root, "image.width.x", YAML::Load("1")); }),
+            "key 'image.width.x': 'image.width' is not a map of keys");
+  EXPECT_EQ(error_of([&] { set_dotted_key(root, "labels..box", YAML::Load("1")); }),
+            "key 'labels..box': an empty name between dots");
 }
 
 }  // namespace

@@ -148,23 +148,62 @@ bool face_visible(const coco::GtAnnotation& person, const std::vector<int>& face
   });
 }
 
+// Whether a box touches the border of its image (1 px of slack for rounded labels).
+bool cut_by_frame(const coco::Box& box, const ImageSize& image) {
+  return box.x <= 1 || box.y <= 1 || box.x + box.w >= image.width - 1 ||
+         box.y + box.h >= image.height - 1;
+}
+
+enum class LeftOut { kNo, kCrowd, kTooSmall, kTooFewKeypoints, kTooFewVisible, kCutByFrame };
+
+LeftOut why_left_out(const coco::GtAnnotation& person, const RealismOptions& options,
+                     const ImageSizes& sizes) {
+  if (person.iscrowd) return LeftOut::kCrowd;
+  if (person.bbox.h < options.min_height_px) return LeftOut::kTooSmall;
+  if (!options.boxes) {
+    if (labelled_keypoints(person) < options.min_keypoints) return LeftOut::kTooFewKeypoints;
+    if (count_keypoints(person, true) < options.min_visible_keypoints) {
+      return LeftOut::kTooFewVisible;
+    }
+  }
+  if (options.whole_in_frame) {
+    const auto it = sizes.find(person.image_id);
+    if (it == sizes.end() || it->second.width <= 0 || it->second.height <= 0) {
+      throw Error("image " + std::to_string(person.image_id) +
+                  ": no width and height, which judging only people whole in the frame needs");
+    }
+    if (cut_by_frame(person.bbox, it->second)) return LeftOut::kCutByFrame;
+  }
+  return LeftOut::kNo;
+}
+
 }  // namespace
 
-bool realism_judges(const coco::GtAnnotation& person, const RealismOptions& options) {
-  return !person.iscrowd && person.bbox.h >= options.min_height_px &&
-         labelled_keypoints(person) >= options.min_keypoints &&
-         count_keypoints(person, true) >= options.min_visible_keypoints;
+ImageSizes image_sizes(const json& root) {
+  ImageSizes sizes;
+  for (const json& image : root.at("images")) {
+    sizes[image.at("id").get<std::int64_t>()] = {image.value("width", 0.0),
+                                                 image.value("height", 0.0)};
+  }
+  return sizes;
+}
+
+bool realism_judges(const coco::GtAnnotation& person, const RealismOptions& options,
+                    const ImageSizes& sizes) {
+  return why_left_out(person, options, sizes) == LeftOut::kNo;
 }
 
 RealismReport measure_realism(const json& root, const coco::CocoGroundTruth& gt,
                               const coco::CocoResults& results,
                               const KeypointTemplate& keypoint_template,
                               const RealismOptions& options) {
-  if (!results.detections.empty() && !results.has_keypoints) {
-    throw Error(results.source + ": the detections carry no keypoints; realism needs a pose model");
+  if (!options.boxes && !results.detections.empty() && !results.has_keypoints) {
+    throw Error(results.source +
+                ": the detections carry no keypoints; realism needs a pose model (or --boxes)");
   }
   const std::vector<double> vars = oks_vars(keypoint_template);
   const std::vector<int> face = face_keypoints(keypoint_template);
+  const ImageSizes sizes = image_sizes(root);
   std::unordered_map<std::int64_t, std::vector<const coco::Detection*>> detections_of;
   for (const coco::Detection& d : results.detections) detections_of[d.image_id].push_back(&d);
   std::unordered_map<std::int64_t, const json*> image_json;
@@ -172,33 +211,39 @@ RealismReport measure_realism(const json& root, const coco::CocoGroundTruth& gt,
     image_json[image.at("id").get<std::int64_t>()] = &image;
 
   RealismReport report;
+  report.boxes = options.boxes;
   report.overall.key = report.overall.bucket = "all";
   std::vector<Judged> people;
   const json& annotations = root.at("annotations");
   for (std::size_t i = 0; i < gt.annotations.size(); ++i) {
     const coco::GtAnnotation& person = gt.annotations[i];
-    if (person.iscrowd) {
-      ++report.crowd;
-      continue;
-    }
-    if (person.bbox.h < options.min_height_px) {
-      ++report.too_small;
-      continue;
-    }
-    if (labelled_keypoints(person) < options.min_keypoints) {
-      ++report.too_few_keypoints;
-      continue;
-    }
-    if (count_keypoints(person, true) < options.min_visible_keypoints) {
-      ++report.too_few_visible;
-      continue;
+    switch (why_left_out(person, options, sizes)) {
+      case LeftOut::kNo:
+        break;
+      case LeftOut::kCrowd:
+        ++report.crowd;
+        continue;
+      case LeftOut::kTooSmall:
+        ++report.too_small;
+        continue;
+      case LeftOut::kTooFewKeypoints:
+        ++report.too_few_keypoints;
+        continue;
+      case LeftOut::kTooFewVisible:
+        ++report.too_few_visible;
+        continue;
+      case LeftOut::kCutByFrame:
+        ++report.cut_by_frame;
+        continue;
     }
     Judged judged;
     for (const coco::Detection* d : detections_of[person.image_id]) {
       if (d->category_id != person.category_id) continue;
-      judged.oks = std::max(judged.oks, compute_oks(person, d->keypoints, vars));
+      const double closeness = options.boxes ? bbox_iou(d->bbox, person.bbox, false)
+                                             : compute_oks(person, d->keypoints, vars);
+      judged.oks = std::max(judged.oks, closeness);
     }
-    judged.found = judged.oks >= options.found_oks;
+    judged.found = judged.oks >= (options.boxes ? options.found_iou : options.found_oks);
     collect(annotations.at(i), "", judged.attributes);
     if (const auto it = image_json.find(person.image_id); it != image_json.end()) {
       collect(*it->second, "", judged.attributes);
@@ -207,7 +252,8 @@ RealismReport measure_realism(const json& root, const coco::CocoGroundTruth& gt,
     // How much of the person shows: a renderer labels every hidden joint, a human annotator
     // only what they can place, so compare sets at equal visibility.
     judged.attributes.numbers.emplace_back("visible_keypoints", count_keypoints(person, true));
-    if (!face.empty()) {
+    // A person labelled by box only has no face to show or hide.
+    if (!face.empty() && labelled_keypoints(person) > 0) {
       judged.attributes.labels.emplace_back("face_visible",
                                             face_visible(person, face) ? "true" : "false");
     }
@@ -244,20 +290,28 @@ std::string realism_markdown(const RealismReport& report, const std::string& tit
                   100.0 * g.found_share(), g.mean_oks());
     return std::string(text);
   };
+  const std::string columns = std::string("| judged | found | ") +
+                              (report.boxes ? "mean box IoU" : "mean OKS") +
+                              " |\n|---|---|---|---|\n";
   std::string md = "# Realism: " + title + "\n\n";
+  if (report.boxes) md += "Judged by box: found where the model's best box has IoU >= 0.5.\n\n";
   md += "People judged: " + std::to_string(report.overall.people) +
         " (left out: " + std::to_string(report.too_small) + " too small, " +
-        std::to_string(report.too_few_keypoints) + " with too few labelled keypoints, " +
+        (report.boxes
+             ? std::string()
+             : std::to_string(report.too_few_keypoints) + " with too few labelled keypoints, ") +
         (report.too_few_visible > 0
              ? std::to_string(report.too_few_visible) + " with too few visible, "
              : std::string()) +
+        (report.cut_by_frame > 0 ? std::to_string(report.cut_by_frame) + " cut by the frame, "
+                                 : std::string()) +
         std::to_string(report.crowd) + " crowd regions).\n\n";
-  md += "| people | judged | found | mean OKS |\n|---|---|---|---|\n" + row(report.overall);
+  md += "| people " + columns + row(report.overall);
   std::string key;
   for (const RealismGroup& g : report.groups) {
     if (g.key != key) {
       key = g.key;
-      md += "\n## " + key + "\n\n| value | judged | found | mean OKS |\n|---|---|---|---|\n";
+      md += "\n## " + key + "\n\n| value " + columns;
     }
     md += row(g);
   }
@@ -265,13 +319,14 @@ std::string realism_markdown(const RealismReport& report, const std::string& tit
 }
 
 json realism_json(const RealismReport& report, const RealismOptions& options) {
-  const auto group_json = [](const RealismGroup& g) {
+  const char* mean_key = report.boxes ? "mean_iou" : "mean_oks";
+  const auto group_json = [mean_key](const RealismGroup& g) {
     return json{{"key", g.key},
                 {"value", g.bucket},
                 {"people", g.people},
                 {"found", g.found},
                 {"found_share", g.found_share()},
-                {"mean_oks", g.mean_oks()}};
+                {mean_key, g.mean_oks()}};
   };
   json groups = json::array();
   for (const RealismGroup& g : report.groups) groups.push_back(group_json(g));
@@ -279,12 +334,16 @@ json realism_json(const RealismReport& report, const RealismOptions& options) {
            {{"min_height_px", options.min_height_px},
             {"min_keypoints", options.min_keypoints},
             {"min_visible_keypoints", options.min_visible_keypoints},
-            {"found_oks", options.found_oks}}},
+            {"found_oks", options.found_oks},
+            {"boxes", options.boxes},
+            {"found_iou", options.found_iou},
+            {"whole_in_frame", options.whole_in_frame}}},
           {"overall", group_json(report.overall)},
           {"left_out",
            {{"too_small", report.too_small},
             {"too_few_keypoints", report.too_few_keypoints},
             {"too_few_visible", report.too_few_visible},
+            {"cut_by_frame", report.cut_by_frame},
             {"crowd", report.crowd}}},
           {"groups", std::move(groups)}};
 }

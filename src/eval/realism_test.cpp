@@ -146,8 +146,8 @@ TEST(Realism, MinVisibleJudgesAtEqualVisibility) {
   EXPECT_EQ(report.overall.people, 2);
   EXPECT_EQ(report.too_few_visible, 1);
   EXPECT_EQ(report.overall.found, 1);
-  EXPECT_TRUE(realism_judges(gt.annotations[0], options));
-  EXPECT_FALSE(realism_judges(gt.annotations[1], options));
+  EXPECT_TRUE(realism_judges(gt.annotations[0], options, image_sizes(root)));
+  EXPECT_FALSE(realism_judges(gt.annotations[1], options, image_sizes(root)));
   EXPECT_NE(realism_markdown(report, "t").find("1 with too few visible"), std::string::npos);
   EXPECT_EQ(realism_json(report, options)["left_out"]["too_few_visible"], 1);
 }
@@ -176,6 +176,53 @@ TEST(Realism, ReportsNameEveryGroup) {
   EXPECT_EQ(j["overall"]["found"], 1);
   EXPECT_EQ(j["left_out"]["too_small"], 1);
   EXPECT_EQ(j["groups"].size(), report.groups.size());
+}
+
+TEST(Realism, JudgesBoxesWhereNoKeypointIsLabelled) {
+  json root = ground_truth();
+  for (json& a : root["annotations"]) {  // people labelled by box only, as the dev photos are
+    for (std::size_t k = 0; k < a["keypoints"].size(); ++k) a["keypoints"][k] = 0;
+    a["num_keypoints"] = 0;
+  }
+  // Person 1's box exactly (IoU 1); person 2's shifted by 40 of its 100 px (IoU 60/140 < 0.5);
+  // nothing in image 2.
+  const json results = json::array({detection(1, 10, 10), detection(1, 340, 10)});
+  RealismOptions options;
+  options.boxes = true;
+  const RealismReport report = measure(root, results, options);
+  EXPECT_EQ(report.overall.people, 3);  // no keypoints asked for
+  EXPECT_EQ(report.overall.found, 1);
+  EXPECT_NEAR(report.overall.oks_sum, 1.0 + 60.0 / 140.0, 1e-9);
+  for (const RealismGroup& g : report.groups) EXPECT_NE(g.key, "face_visible");
+  EXPECT_NE(realism_markdown(report, "t").find("| people | judged | found | mean box IoU |"),
+            std::string::npos);
+  EXPECT_EQ(realism_markdown(report, "t").find("too few labelled keypoints"), std::string::npos);
+  const json j = realism_json(report, options);
+  EXPECT_NEAR(j["overall"]["mean_iou"].get<double>(), (1.0 + 60.0 / 140.0) / 3, 1e-9);
+  EXPECT_TRUE(j["options"]["boxes"].get<bool>());
+  // Judged by keypoints the same set has nobody to judge.
+  EXPECT_EQ(measure(root, results).overall.people, 0);
+}
+
+TEST(Realism, InFrameLeavesOutPeopleTheFrameCuts) {
+  json root = ground_truth();
+  root["annotations"][1]["bbox"] = {540, 10, 100, 200};  // its right edge on the 640 px border
+  RealismOptions options;
+  options.whole_in_frame = true;
+  const RealismReport report = measure(root, json::array({detection(1, 10, 10)}), options);
+  EXPECT_EQ(report.overall.people, 2);
+  EXPECT_EQ(report.cut_by_frame, 1);
+  EXPECT_NE(realism_markdown(report, "t").find("1 cut by the frame"), std::string::npos);
+  EXPECT_EQ(realism_json(report, options)["left_out"]["cut_by_frame"], 1);
+  // Without the images' sizes the border is unknown: an error naming the image.
+  root["images"][0].erase("width");
+  try {
+    measure(root, json::array(), options);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("image 1: no width and height"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(Realism, ResultsWithoutKeypointsAreRefused) {

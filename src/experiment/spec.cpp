@@ -222,25 +222,6 @@ ExperimentSpec parse_spec(const ConfigNode& root, const fs::path& base_dir,
   return spec;
 }
 
-// Sets `path` (dotted keys) of `root` to `value`, creating maps on the way.
-void override_key(YAML::Node root, const std::string& path, const YAML::Node& value) {
-  YAML::Node node;
-  node.reset(root);
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t dot = path.find('.', start);
-    const std::string key = path.substr(start, dot == std::string::npos ? dot : dot - start);
-    if (dot == std::string::npos) {
-      node[key] = value;
-      return;
-    }
-    YAML::Node next = node[key];
-    if (!next.IsDefined() || next.IsNull()) next = YAML::Node(YAML::NodeType::Map);
-    node.reset(next);
-    start = dot + 1;
-  }
-}
-
 YAML::Node load_yaml(const std::string& text, const std::string& origin) {
   try {
     return YAML::Load(text);
@@ -273,7 +254,7 @@ std::vector<Variant> parse_experiment(const std::string& text, const std::string
     if (!root.IsMap()) throw Error(origin + ": the document must be a map of keys");
     if (variant_keys) {
       for (const auto& item : variant_keys) {
-        override_key(root, item.first.as<std::string>(), item.second);
+        set_dotted_key(root, item.first.as<std::string>(), item.second);
       }
     }
     root.remove("variants");
