@@ -261,7 +261,8 @@ Seated seat(const BodyData& data, const PersonSpec& spec,
                                        seated_joints[motion::kLeftAnkle].cast<float>(),
                                        seated_joints[motion::kHeadBase].cast<float>());
   RandomStream chair_stream(spec.seed, {"body", "wheelchair"});
-  person.chair = make_wheelchair(spec.wheelchair, fit, chair_stream);
+  person.chair = make_wheelchair(spec.wheelchair, fit, chair_stream,
+                                 ChairOptions{.headrest = spec.chair_headrest.value_or(true)});
   // Pushing clips: the hands go to the rims (the chair is in the same, unshifted frame).
   const bool on_rims =
       spec.hands_on_rims && reach_push_rims(rig, person.rest_bones, person.chair, out.pose) > 0;

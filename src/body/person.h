@@ -76,6 +76,9 @@ struct PersonSpec {
   std::vector<std::string> proxies;
   // Pushing clips: bend the arms so the wrists meet the push rims (manual and sport chairs).
   bool hands_on_rims = false;
+  // A power chair's headrest (ChairOptions::headrest); unset is the default, a headrest, and
+  // leaves the labels as they were.
+  std::optional<bool> chair_headrest;
 };
 
 // Random macro parameters and wheelchair type for `seed` (RandomStream(seed, {"body", ...})).

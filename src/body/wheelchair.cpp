@@ -243,7 +243,7 @@ struct SeatFrame {
 
 // Seat, backrest, posts, rails and footplate, fitted to the body: width from the hips, depth
 // from the thigh, footplate under the feet. Sets c.ground_y.
-SeatFrame add_seat_frame(Wheelchair& c, const SeatFit& fit, RandomStream& s) {
+SeatFrame add_seat_frame(Wheelchair& c, const SeatFit& fit, RandomStream& s, bool headrest) {
   const bool sport = c.type == WheelchairType::kSport;
   const bool power = c.type == WheelchairType::kPower;
   SeatFrame f;
@@ -265,7 +265,7 @@ SeatFrame add_seat_frame(Wheelchair& c, const SeatFit& fit, RandomStream& s) {
 
   c.parts.push_back(box("seat", {-hw, top - cushion, back}, {hw, top, front}, kUpholstery));
   f.back_h = sport   ? static_cast<float>(s.uniform(0.18, 0.28))
-             : power ? static_cast<float>(s.uniform(0.50, 0.60))
+             : power ? static_cast<float>(headrest ? s.uniform(0.50, 0.60) : s.uniform(0.40, 0.50))
                      : static_cast<float>(s.uniform(0.38, 0.48));
   f.back_t = 0.03f;
   c.parts.push_back(
@@ -315,9 +315,10 @@ void add_push_wheels(Wheelchair& c, const SeatFrame& f, RandomStream& s,
   dims["camber_deg"] = camber * 180 / kPi;
 }
 
-// Power base: motors, battery box, six small wheels, and a headrest behind the head.
+// Power base: motors, battery box, six small wheels, and (a rehab chair's) a headrest behind
+// the head.
 void add_power_base(Wheelchair& c, const SeatFrame& f, const SeatFit& fit, RandomStream& s,
-                    nlohmann::ordered_json& dims) {
+                    bool headrest, nlohmann::ordered_json& dims) {
   const float hw = f.hw, back = f.back, front = f.front, ground = f.ground;
   const float base_top =
       std::max(std::min(f.top - f.cushion - 0.05f, ground + 0.35f), ground + 0.14f);
@@ -339,13 +340,17 @@ void add_power_base(Wheelchair& c, const SeatFrame& f, const SeatFit& fit, Rando
                                  kTyre));
     }
   }
+  dims["drive_wheel_radius"] = r;
+  if (!headrest) {
+    dims["headrest"] = false;  // written only when absent, so earlier chairs' records stay
+    return;
+  }
   const float gap = 0.003f;
   const float hr_z = std::min(fit.head_back_z - gap, back) - 0.04f;
   c.parts.push_back(box("headrest", {-0.12f, fit.head_y - 0.08f, hr_z},
                         {0.12f, fit.head_y + 0.08f, hr_z + 0.04f}, kUpholstery));
   c.parts.push_back(tube("headrest_post", {0, f.top + f.back_h, back - f.back_t / 2},
                          {0, fit.head_y - 0.08f, hr_z + 0.02f}, 0.01f));
-  dims["drive_wheel_radius"] = r;
 }
 
 // Armrests as high as the hanging arms allow; a power chair's joystick on the right one.
@@ -370,7 +375,8 @@ void add_armrests(Wheelchair& c, const SeatFrame& f, const SeatFit& fit,
 
 }  // namespace
 
-Wheelchair make_wheelchair(WheelchairType type, const SeatFit& fit, RandomStream& s) {
+Wheelchair make_wheelchair(WheelchairType type, const SeatFit& fit, RandomStream& s,
+                           const ChairOptions& options) {
   if (type == WheelchairType::kNone) {
     Wheelchair none;
     none.type = type;
@@ -383,7 +389,7 @@ Wheelchair make_wheelchair(WheelchairType type, const SeatFit& fit, RandomStream
   c.type = type;
   c.colours = {random_colour(s, 0.05f, 0.9f), random_colour(s, 0.02f, 0.25f),
                Eigen::Vector3f(0.05f, 0.05f, 0.05f), random_colour(s, 0.5f, 0.85f)};
-  const SeatFrame f = add_seat_frame(c, fit, s);
+  const SeatFrame f = add_seat_frame(c, fit, s, options.headrest);
   nlohmann::ordered_json dims = {{"type", wheelchair_type_name(type)},
                                  {"seat_width", f.seat_w},
                                  {"seat_depth", f.seat_d},
@@ -391,7 +397,7 @@ Wheelchair make_wheelchair(WheelchairType type, const SeatFit& fit, RandomStream
                                  {"backrest_height", f.back_h},
                                  {"footplate_height", f.plate_top - f.ground}};
   if (type == WheelchairType::kPower) {
-    add_power_base(c, f, fit, s, dims);
+    add_power_base(c, f, fit, s, options.headrest, dims);
   } else {
     add_push_wheels(c, f, s, dims);
   }

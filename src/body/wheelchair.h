@@ -63,8 +63,16 @@ SeatFit measure_seat_fit(const std::vector<Eigen::Vector3f>& vertices,
                          const Eigen::Vector3f& right_hip, const Eigen::Vector3f& left_knee,
                          const Eigen::Vector3f& left_ankle, const Eigen::Vector3f& head);
 
+// What a type leaves open. A power chair has a tall back and a headrest (a rehab chair) unless
+// `headrest` is false: then the lower sling back of a folding power chair, the kind most photos
+// of power-chair users show.
+struct ChairOptions {
+  bool headrest = true;
+};
+
 // kNone gives a chair with no parts and no model.
-Wheelchair make_wheelchair(WheelchairType type, const SeatFit& fit, RandomStream& stream);
+Wheelchair make_wheelchair(WheelchairType type, const SeatFit& fit, RandomStream& stream,
+                           const ChairOptions& options = {});
 // A chair for nobody (scene object): fitted to an average adult.
 Wheelchair make_empty_wheelchair(WheelchairType type, RandomStream& stream);
 

@@ -78,6 +78,33 @@ TEST(Wheelchair, EachTypeHasItsParts) {
   EXPECT_EQ(none.dimensions["type"], "none");
 }
 
+TEST(Wheelchair, PowerChairsWithoutAHeadrestHaveAFoldingChairsBack) {
+  for (std::uint64_t seed = 0; seed < 20; ++seed) {
+    const Wheelchair rehab = chair_of(WheelchairType::kPower, seed);
+    RandomStream stream(seed, {"test", "wheelchair"});
+    const Wheelchair folding =
+        make_wheelchair(WheelchairType::kPower, SeatFit{}, stream, {.headrest = false});
+    EXPECT_TRUE(has_part(rehab, "headrest"));
+    EXPECT_FALSE(has_part(folding, "headrest"));
+    const float tall = rehab.dimensions["backrest_height"].get<float>();
+    const float low = folding.dimensions["backrest_height"].get<float>();
+    EXPECT_GE(tall, 0.50f);
+    EXPECT_LE(tall, 0.60f);
+    EXPECT_GE(low, 0.40f);
+    EXPECT_LE(low, 0.50f);
+    EXPECT_FLOAT_EQ(low + 0.10f, tall);  // the same draw, so every other dimension stays too
+    EXPECT_EQ(folding.dimensions["seat_width"], rehab.dimensions["seat_width"]);
+    EXPECT_EQ(folding.dimensions["headrest"], false);
+    EXPECT_FALSE(rehab.dimensions.contains("headrest"));
+    // Other types have no headrest to leave out.
+    RandomStream manual_stream(seed, {"test", "wheelchair"});
+    EXPECT_EQ(
+        make_wheelchair(WheelchairType::kManual, SeatFit{}, manual_stream, {.headrest = false})
+            .dimensions,
+        chair_of(WheelchairType::kManual, seed).dimensions);
+  }
+}
+
 TEST(Wheelchair, SameStreamSameChairOtherSeedOtherChair) {
   const Wheelchair a = chair_of(WheelchairType::kManual, 7);
   const Wheelchair b = chair_of(WheelchairType::kManual, 7);

@@ -246,6 +246,9 @@ void label_person(const body::Person& person, const body::PersonSpec& spec, cons
   label.attributes["body"] = spec.params.to_json();
   label.attributes["pool_slot"] = p.pool_slot;
   label.attributes["wheelchair_type"] = body::wheelchair_type_name(person.chair.type);
+  if (spec.chair_headrest && person.chair.type == body::WheelchairType::kPower) {
+    label.attributes["power_chair_headrest"] = *spec.chair_headrest;
+  }
   label.attributes["limb_difference"] = std::move(limbs);
   label.attributes["mobility_aid"] = body::mobility_aid_name(person.aid.type);
   label.attributes["motion_id"] = clip != nullptr ? clip->motion.name

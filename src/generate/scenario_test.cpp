@@ -146,6 +146,29 @@ TEST(Scenario, APoolMemberIsTheSamePersonInEveryFrameOfItsPool) {
   EXPECT_GT(changed, 0);
 }
 
+TEST(Scenario, PowerHeadrestsAreDrawnOnlyWhenAsked) {
+  const auto ctx = small_context();
+  const Scenario plain = Scenario::defaults();
+  const Scenario half = Scenario::from_config(ConfigNode::load_string(
+      "randomizers: {Wheelchair: {power_headrest_probability: 0.5}}", "s.yaml"));
+  int with = 0, without = 0;
+  for (int f = 0; f < 40; ++f) {
+    const FrameDraft a = draft_frame(plain, 5, f, ctx), b = draft_frame(half, 5, f, ctx);
+    ASSERT_EQ(a.people.size(), b.people.size());
+    for (std::size_t i = 0; i < a.people.size(); ++i) {
+      EXPECT_FALSE(a.people[i].spec.chair_headrest.has_value());  // the default draws nothing
+      ASSERT_TRUE(b.people[i].spec.chair_headrest.has_value());
+      // The draw comes after the chair's type and colours, which stay as they were.
+      EXPECT_EQ(a.people[i].spec.wheelchair, b.people[i].spec.wheelchair);
+      EXPECT_EQ(a.people[i].chair_colours, b.people[i].chair_colours);
+      (*b.people[i].spec.chair_headrest ? with : without) += 1;
+    }
+  }
+  EXPECT_GT(with, 10);
+  EXPECT_GT(without, 10);
+  EXPECT_NE(message("randomizers: {Wheelchair: {power_headrest_probability: 1.5}}"), "no error");
+}
+
 TEST(Scenario, ReconfiguringOneRandomizerLeavesTheOthersDrawsAlone) {
   const Scenario a = Scenario::defaults();
   const Scenario b = Scenario::from_config(ConfigNode::load_string(
